@@ -1,0 +1,54 @@
+"""Where a wheel touches the road, and the tyre's radial force there (pure numpy, no Drake).
+
+The tyre is a rigid rim of radius R0 with a radial spring-damper at one contact point: the point
+of the wheel's mid-plane circle that lies deepest below the road (for a flat road, the point of
+the circle in the direction of -z projected onto the wheel plane). The road is given as a height
+function z = h(x, y); its local normal is taken as +z (road slopes are small).
+"""
+
+import dataclasses
+
+import numpy as np
+
+
+@dataclasses.dataclass(frozen=True)
+class RadialTyre:
+    unloaded_radius_m: float
+    radial_stiffness_Npm: float
+    radial_damping_Nspm: float
+
+    def __post_init__(self):
+        for name in ("unloaded_radius_m", "radial_stiffness_Npm"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"tyre {name} = {getattr(self, name)} must be > 0")
+        if not self.radial_damping_Nspm >= 0:
+            raise ValueError(f"tyre radial_damping_Nspm = {self.radial_damping_Nspm} must be >= 0")
+
+
+def contact_point(centre, spin_axis, radius, road_height):
+    """Lowest point of the wheel circle and the tyre's deflection there.
+
+    Returns (p_contact on the road surface, deflection >= 0, radial unit vector from the centre
+    towards the contact). ``spin_axis`` is a unit vector, ``road_height(x, y)`` a callable.
+    """
+    down = np.array([0.0, 0.0, -1.0]) - (-spin_axis[2]) * spin_axis
+    norm = np.linalg.norm(down)
+    if norm < 1e-9:  # wheel lying flat: no rolling contact defined
+        return centre.copy(), 0.0, np.array([0.0, 0.0, -1.0])
+    down /= norm
+    rim = centre + radius * down
+    ground = road_height(rim[0], rim[1])
+    deflection = max(0.0, ground - rim[2])
+    return np.array([rim[0], rim[1], ground]), deflection, down
+
+
+def radial_force(tyre: RadialTyre, deflection, deflection_rate):
+    """Vertical load Fz >= 0 (N): spring plus damper, never pulling the wheel down."""
+    if deflection <= 0.0:
+        return 0.0
+    return max(0.0, tyre.radial_stiffness_Npm * deflection
+               + tyre.radial_damping_Nspm * deflection_rate)
+
+
+def flat_road(x, y):
+    return 0.0

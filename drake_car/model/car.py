@@ -1,0 +1,141 @@
+"""The car as a discrete (SAP) MultibodyPlant: model file + springs + rod anti-spin + steering servo.
+
+Build order follows Drake's hardware_sim: ``add_car`` parses the model and adds the force
+elements and constraints that the file cannot express, *before* ``plant.Finalize()``.
+"""
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+from pydrake.multibody.tree import LinearSpringDamper, PdControllerGains
+
+from drake_car.model.geometry import ANTI_SPIN_LINK_M, SIDES
+from drake_car.model.kinematics import SuspensionKinematics
+from drake_car.model.loading import ModelSource, frame_point, load_car
+from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
+from drake_car.model.sdformat import generate_sdformat
+
+# Steering servo on the rack: SAP's implicit PD (stiff enough that the rack follows its command
+# within ~0.1 mm under kN tie-rod loads, critically damped for the rack's ~5 kg reflected mass).
+RACK_SERVO_GAINS = PdControllerGains(p=2.0e7, d=2.0e4)
+
+
+@dataclasses.dataclass
+class SpringSetting:
+    stiffness_Npm: float
+    free_length_m: float
+    design_length_m: float
+    motion_ratio: float  # |dL_spring / dz_wheel| at the design position
+    design_force_N: float
+
+
+@dataclasses.dataclass
+class CarModel:
+    """Handles to the car inside a plant."""
+
+    params: CarParameters
+    plant: object
+    instance: object
+    source: ModelSource
+    springs: dict  # (axle, side) -> SpringSetting
+    rack_actuator: object
+
+    def joint(self, name):
+        return self.plant.GetJointByName(name, self.instance)
+
+    def body(self, name):
+        return self.plant.GetBodyByName(name, self.instance)
+
+    def strut_joints(self, side):
+        """(prismatic, revolute) joints of the strut's cylindrical pair."""
+        return (self.joint(f"strut_prismatic_{side}"), self.joint(f"strut_revolute_{side}"))
+
+    def wheel_bodies(self):
+        return {"fl": self.body("wheel_front_left"), "fr": self.body("wheel_front_right"),
+                "rl": self.body("wheel_rear_left"), "rr": self.body("wheel_rear_right")}
+
+
+def model_source(params: CarParameters, model_path=None) -> ModelSource:
+    if model_path is not None:
+        return ModelSource(path=Path(model_path), label=str(model_path))
+    return ModelSource(text=generate_sdformat(params))
+
+
+_SPRING_CACHE = {}
+
+
+def spring_settings(params: CarParameters, source: ModelSource):
+    """Spring rates (from the wheel rates and the motion ratios) and free lengths chosen so that
+    the design position is the static equilibrium under the design axle loads. Cached per
+    (parameters, model file), since it closes the loops with Newton's method."""
+    key = (repr(params), source.text, str(source.path))
+    if key not in _SPRING_CACHE:
+        _SPRING_CACHE[key] = _compute_spring_settings(params, source)
+    return _SPRING_CACHE[key]
+
+
+def _compute_spring_settings(params, source):
+    kin = SuspensionKinematics(source, params.front.guide_length_l_m)
+    loads = params.design_axle_loads_N()
+    settings = {}
+    for axle, wheel_rate, axle_load in (("front", params.front.wheel_rate_Npm, loads["front"]),
+                                        ("rear", params.rear.wheel_rate_Npm, loads["rear"])):
+        for side in SIDES:
+            ratio, dmz_dz = kin.motion_ratios(axle, side)
+            ratio = abs(ratio)
+            design_length = kin.spring_length(axle, side)
+            # Virtual work at the design position, chassis fixed: the road's wheel load W moves
+            # with the wheel centre, gravity acts on the corner's parts at their mass centres,
+            # the spring along its length:  W - g d(sum m z)/dz - F_spring |dL/dz| = 0.
+            force = (axle_load / 2 - GRAVITY_MPS2 * dmz_dz) / ratio
+            stiffness = wheel_rate / ratio ** 2
+            settings[(axle, side)] = SpringSetting(
+                stiffness_Npm=stiffness, free_length_m=design_length + force / stiffness,
+                design_length_m=design_length, motion_ratio=ratio, design_force_N=force)
+    return settings
+
+
+def add_car(plant, params: CarParameters | None = None, *, model_path=None,
+            fixed_chassis=False) -> CarModel:
+    """Adds the car to a discrete ``plant`` (not yet finalized) and returns its handles."""
+    params = (params or CarParameters()).validate()
+    source = model_source(params, model_path)
+    instance = load_car(plant, source, fixed_chassis=fixed_chassis)
+    springs = spring_settings(params, source)
+    for (axle, side), setting in springs.items():
+        prefix = "" if axle == "front" else "rear_"
+        body_a, p_a = frame_point(plant, f"{prefix}spring_upper_seat_{side}", instance)
+        body_b, p_b = frame_point(plant, f"{prefix}spring_lower_seat_{side}", instance)
+        plant.AddForceElement(LinearSpringDamper(
+            body_a, p_a, body_b, p_b, setting.free_length_m, setting.stiffness_Npm, 0.0))
+    for side in SIDES:
+        body_a, p_a = frame_point(plant, f"anti_spin_chassis_{side}", instance)
+        body_b, p_b = frame_point(plant, f"anti_spin_rod_{side}", instance)
+        plant.AddDistanceConstraint(body_a, p_a, body_b, p_b, ANTI_SPIN_LINK_M)
+    rack = plant.GetJointByName("rack_slide", instance)
+    rack_actuator = plant.AddJointActuator("rack_servo", rack)
+    rack_actuator.set_controller_gains(RACK_SERVO_GAINS)
+    return CarModel(params=params, plant=plant, instance=instance, source=source,
+                    springs=springs, rack_actuator=rack_actuator)
+
+
+def strut_overlap(car: CarModel, context, side):
+    """Overlap d between guide and piston (m): d = l - s, s the prismatic coordinate."""
+    prismatic = car.joint(f"strut_prismatic_{side}")
+    return car.params.front.guide_length_l_m - prismatic.get_translation(context)
+
+
+def loop_closure_error(car: CarModel, plant_context):
+    """Largest distance (m) between the points the top-mount and tie-rod constraints join."""
+    plant, world = car.plant, car.plant.world_frame()
+    worst = 0.0
+    for side in SIDES:
+        for a, b in ((f"piston_rod_{side}", f"top_mount_{side}"),
+                     (f"tie_rod_outer_{side}", f"tie_rod_end_{side}")):
+            pa = plant.CalcPointsPositions(plant_context, plant.GetFrameByName(a, car.instance),
+                                           np.zeros(3), world)
+            pb = plant.CalcPointsPositions(plant_context, plant.GetFrameByName(b, car.instance),
+                                           np.zeros(3), world)
+            worst = max(worst, float(np.linalg.norm(pa - pb)))
+    return worst

@@ -1,0 +1,73 @@
+"""Loads the car's model file into a MultibodyPlant, with clear errors for bad files."""
+
+import dataclasses
+from pathlib import Path
+
+from pydrake.math import RigidTransform
+from pydrake.multibody.parsing import Parser
+
+from drake_car.model.geometry import SIDES
+
+# Bodies and joints every car model file must declare (the code addresses them by name).
+REQUIRED_BODIES = ["chassis", "steering_rack"] + [
+    f"{part}_{side}" for side in SIDES for part in (
+        "lower_arm", "knuckle", "strut_slider", "piston_rod", "wheel_front", "tie_rod",
+        "trailing_arm", "wheel_rear")]
+REQUIRED_FRAMES = [
+    f"{name}_{side}" for side in SIDES for name in (
+        "top_mount", "spring_upper_seat", "spring_lower_seat", "anti_spin_chassis",
+        "anti_spin_rod", "strut_lower_mount", "piston", "guide", "rear_spring_upper_seat",
+        "rear_spring_lower_seat", "tie_rod_outer", "tie_rod_end")]
+
+
+class ModelFileError(RuntimeError):
+    """A model file is missing, malformed, or lacks a part the car needs; names the file."""
+
+
+@dataclasses.dataclass
+class ModelSource:
+    """Either a path to an SDFormat/URDF file or the text of one (``label`` names it)."""
+
+    text: str | None = None
+    path: Path | None = None
+    label: str = "<generated car model>"
+
+
+def load_car(plant, source: ModelSource, *, fixed_chassis: bool = False):
+    """Adds the car to ``plant`` (not finalized) and returns its model instance."""
+    parser = Parser(plant)
+    try:
+        if source.path is not None:
+            path = Path(source.path)
+            if not path.is_file():
+                raise ModelFileError(f"{path}: model file not found")
+            instances = parser.AddModels(str(path))
+            where = str(path)
+        else:
+            instances = parser.AddModelsFromString(source.text, "sdf")
+            where = source.label
+    except ModelFileError:
+        raise
+    except Exception as e:  # Drake reports parse errors as RuntimeError with the line
+        name = source.path if source.path is not None else source.label
+        raise ModelFileError(f"{name}: cannot parse the car model: {e}") from e
+    if len(instances) != 1:
+        raise ModelFileError(f"{where}: expected one model, found {len(instances)}")
+    instance = instances[0]
+    for name in REQUIRED_BODIES:
+        if not plant.HasBodyNamed(name, instance):
+            raise ModelFileError(f"{where}: the car model lacks the body '{name}'")
+    for name in REQUIRED_FRAMES:
+        if not plant.HasFrameNamed(name, instance):
+            raise ModelFileError(f"{where}: the car model lacks the frame '{name}'")
+    if fixed_chassis:
+        plant.WeldFrames(plant.world_frame(),
+                         plant.GetBodyByName("chassis", instance).body_frame(),
+                         RigidTransform())
+    return instance
+
+
+def frame_point(plant, name, instance):
+    """(body, position of the frame's origin in the body frame) of a named fixed frame."""
+    frame = plant.GetFrameByName(name, instance)
+    return frame.body(), frame.GetFixedPoseInBodyFrame().translation()

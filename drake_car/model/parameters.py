@@ -1,0 +1,232 @@
+"""Parameters of the car: one real medium-class front-wheel-drive car with McPherson struts.
+
+The car is the Ford Escort (North American, 1981-90): a C-segment, front-wheel-drive hatchback
+with McPherson front struts. Its mass, centre of gravity, inertias, tracks, wheel rates, damping
+and tyre stiffness are published in
+
+  [ESC] R. W. Allen et al., "Vehicle Dynamic Stability and Rollover", NHTSA report DOT HS 807 956
+        (1992), Table E-5; restated in SI by the CommonRoad vehicle models, "parameters_vehicle1"
+        ("values are taken from a Ford Escort") and vehicleModels_commonRoad.pdf, Table 6.
+
+No McPherson hard points of a C-segment car are published in a source we could reach. The hard
+points below are therefore an *estimate*, marked [EST]: the strut geometry of
+
+  [E90] SAE paper 2007-01-0818 (BMW E90 front McPherson strut), as tabulated in Project Chrono's
+        BMW_E90_MacPhersonStrut model,
+
+scaled laterally to the Escort's front track (factor 1.390/1.500) and with the caster set to the
+Escort's published alignment value [ALN] (2.3 deg, 1990 Escort alignment specification).
+Quantities the strut friction depends on (ball-joint offset ``b``, guide length ``l``, rod radius
+``r``, spring inclination and offset, kingpin and caster angles) are named fields here; the model
+file is generated from them (see ``drake_car.model.sdformat``).
+
+Frames: the vehicle frame V has its origin on the ground midway between the front contact points
+at the design position, x forward, y left, z up. All lengths in m, masses in kg, angles in degrees
+where the name says ``_deg``.
+"""
+
+import dataclasses
+import math
+
+GRAVITY_MPS2 = 9.81
+
+
+class ParameterError(ValueError):
+    """A car parameter is out of its physical range; the message names the parameter."""
+
+
+@dataclasses.dataclass
+class MassParameters:
+    """Masses and inertias. Sources: [ESC] unless marked [EST]."""
+
+    # [ESC] total (test) mass 84 slug.
+    total_mass_kg: float = 1225.9
+    # [ESC] CoG to front axle, CoG to rear axle.
+    cog_to_front_axle_m: float = 0.884
+    cog_to_rear_axle_m: float = 1.509
+    # [ESC] CoG height of the sprung mass.
+    sprung_cog_height_m: float = 0.594
+    # [ESC] sprung-mass roll, pitch, yaw inertia about its CoG.
+    sprung_inertia_kgm2: tuple = (244.0, 1342.0, 1539.0)
+    # [EST] split of [ESC]'s 65.7 kg unsprung mass per axle (32.85 kg per corner) among parts.
+    front_wheel_kg: float = 15.0
+    front_knuckle_kg: float = 13.0  # knuckle, hub, brake, strut cylinder
+    front_lower_arm_kg: float = 3.0
+    piston_rod_kg: float = 1.0
+    strut_slider_kg: float = 0.05  # light link of the cylindrical joint (no physical part)
+    tie_rod_kg: float = 0.6
+    rack_kg: float = 2.0
+    rear_wheel_kg: float = 15.0
+    rear_carrier_kg: float = 17.0  # trailing arm, hub, brake
+    # [EST] wheel-and-tyre spin inertia (solid-disc estimate 0.5 m R^2 scaled by 0.8).
+    wheel_spin_inertia_kgm2: float = 0.6
+
+
+@dataclasses.dataclass
+class FrontSuspensionParameters:
+    """Left front McPherson corner; the right one is its mirror image in y."""
+
+    # [ESC] front track.
+    track_m: float = 1.390
+    # [E90]-scaled [EST]: ball-joint offset b (paper Fig. 4): lateral distance from the ball-joint
+    # centre to the line of action of the vertical road reaction (the wheel plane at design).
+    ball_joint_offset_b_m: float = 0.080
+    ball_joint_height_m: float = 0.2095  # [E90] 0.104 m below the wheel centre
+    ball_joint_x_m: float = 0.026
+    # [E90]-scaled [EST]: lower-arm pivots (front, rear) in V.
+    lower_arm_front_pivot_m: tuple = (0.251, 0.320, 0.254)
+    lower_arm_rear_pivot_m: tuple = (-0.040, 0.346, 0.188)
+    # [E90] kingpin inclination ~12 deg; [ALN] caster 2.3 deg. Top mount height [E90].
+    kingpin_inclination_deg: float = 12.0
+    caster_deg: float = 2.3
+    top_mount_height_m: float = 0.7825
+    # [E90] strut (damper) axis lateral inclination; it leans back by the caster angle.
+    strut_inclination_deg: float = 9.5
+    # [EST] strut internals (paper Fig. 2): guide 0.20 m below the top mount along the axis; guide
+    # length l = overlap d between guide and piston at the design position; rod radius r (22 mm rod).
+    guide_below_top_mount_m: float = 0.20
+    guide_length_l_m: float = 0.14
+    rod_radius_r_m: float = 0.011
+    strut_lower_mount_below_top_m: float = 0.47  # strut clamp on the knuckle (strut length)
+    # Coil spring: rate chosen so that the wheel rate equals [ESC]'s 21 898 N/m.
+    wheel_rate_Npm: float = 21898.0
+    spring_lower_seat_below_top_m: float = 0.26
+    spring_upper_seat_below_top_m: float = 0.02
+    spring_offset_m: float = 0.0  # lateral offset of the spring line from the strut axis (outboard +)
+    spring_inclination_deg: float = 0.0  # spring line vs strut axis, lateral plane (top inboard +)
+    # Paper section 4: 1250 N s/m in the cylindrical joint for the lubricated strut.
+    strut_damping_Nspm: float = 1250.0
+    # [EST] steering: rack ahead of the axle ("front steer"), tie rods from rack ends to arms.
+    rack_x_m: float = 0.15
+    rack_height_m: float = 0.29  # chosen for small bump steer (< 1 deg over +-60 mm)
+    rack_half_length_m: float = 0.17
+    rack_stroke_m: float = 0.07
+    tie_rod_outer_m: tuple = (0.15, 0.545, 0.3135)
+
+
+@dataclasses.dataclass
+class RearSuspensionParameters:
+    """Rear axle: a twist beam modelled as two independent trailing arms (a simplification that
+    leaves out the beam's roll stiffness)."""
+
+    track_m: float = 1.423  # [ESC]
+    pivot_ahead_of_axle_m: float = 0.45  # [EST]
+    pivot_y_m: float = 0.55  # [EST]
+    pivot_height_m: float = 0.30  # [EST]
+    spring_ahead_of_axle_m: float = 0.05  # [EST] vertical spring, this far ahead of the axle
+    spring_y_m: float = 0.55
+    spring_lower_height_m: float = 0.25
+    spring_upper_height_m: float = 0.60
+    wheel_rate_Npm: float = 21898.0  # [ESC]
+    wheel_damping_Nspm: float = 1459.0  # [ESC] damping at the wheel
+
+
+@dataclasses.dataclass
+class TyreVerticalParameters:
+    # Unloaded radius of a 205/60R15 tyre (Pacejka, Tyre and Vehicle Dynamics, 2nd ed., 2006,
+    # Table A3.1), the tyre whose Magic Formula data the project uses.
+    unloaded_radius_m: float = 0.3135
+    width_m: float = 0.205
+    radial_stiffness_Npm: float = 189800.0  # [ESC]
+    radial_damping_Nspm: float = 250.0  # [EST] ~5 % of critical for 33 kg unsprung mass
+
+
+@dataclasses.dataclass
+class CarParameters:
+    """Everything the model files and the plant are generated from."""
+
+    mass: MassParameters = dataclasses.field(default_factory=MassParameters)
+    front: FrontSuspensionParameters = dataclasses.field(default_factory=FrontSuspensionParameters)
+    rear: RearSuspensionParameters = dataclasses.field(default_factory=RearSuspensionParameters)
+    tyre: TyreVerticalParameters = dataclasses.field(default_factory=TyreVerticalParameters)
+
+    @property
+    def wheelbase_m(self):
+        return self.mass.cog_to_front_axle_m + self.mass.cog_to_rear_axle_m
+
+    def design_axle_loads_N(self):
+        """Static axle loads of the real car [ESC] from its mass and CoG position."""
+        weight = self.mass.total_mass_kg * GRAVITY_MPS2
+        return {
+            "front": weight * self.mass.cog_to_rear_axle_m / self.wheelbase_m,
+            "rear": weight * self.mass.cog_to_front_axle_m / self.wheelbase_m,
+        }
+
+    def validate(self):
+        """Raises ParameterError naming the first parameter out of range."""
+        _positive(self.mass, "mass", [
+            "total_mass_kg", "cog_to_front_axle_m", "cog_to_rear_axle_m",
+            "sprung_cog_height_m", "front_wheel_kg", "front_knuckle_kg", "front_lower_arm_kg",
+            "piston_rod_kg", "strut_slider_kg", "tie_rod_kg", "rack_kg", "rear_wheel_kg",
+            "rear_carrier_kg", "wheel_spin_inertia_kgm2"])
+        for i, value in enumerate(self.mass.sprung_inertia_kgm2):
+            if not value > 0:
+                raise ParameterError(f"mass.sprung_inertia_kgm2[{i}] = {value} must be > 0")
+        _positive(self.front, "front", [
+            "track_m", "ball_joint_height_m", "top_mount_height_m", "guide_below_top_mount_m",
+            "guide_length_l_m", "rod_radius_r_m", "strut_lower_mount_below_top_m",
+            "wheel_rate_Npm", "spring_lower_seat_below_top_m", "rack_half_length_m",
+            "rack_stroke_m"])
+        _positive(self.rear, "rear", [
+            "track_m", "pivot_ahead_of_axle_m", "pivot_height_m", "wheel_rate_Npm",
+            "spring_upper_height_m"])
+        _positive(self.tyre, "tyre", [
+            "unloaded_radius_m", "width_m", "radial_stiffness_Npm"])
+        _nonnegative(self.front, "front", ["strut_damping_Nspm"])
+        _nonnegative(self.rear, "rear", ["wheel_damping_Nspm"])
+        _nonnegative(self.tyre, "tyre", ["radial_damping_Nspm"])
+        f = self.front
+        b = f.ball_joint_offset_b_m
+        if not 0.0 <= b < f.track_m / 2 - 0.1:
+            raise ParameterError(
+                f"front.ball_joint_offset_b_m = {b} must lie in [0, track/2 - 0.1 m): the ball "
+                "joint must sit inside the wheel, outboard of the lower-arm pivots")
+        for name in ("kingpin_inclination_deg", "strut_inclination_deg"):
+            angle = getattr(f, name)
+            if not -30.0 < angle < 30.0:
+                raise ParameterError(f"front.{name} = {angle} must lie in (-30, 30) deg")
+        if not -15.0 < f.caster_deg < 15.0:
+            raise ParameterError(f"front.caster_deg = {f.caster_deg} must lie in (-15, 15) deg")
+        if not abs(f.spring_inclination_deg) < 20.0:
+            raise ParameterError(
+                f"front.spring_inclination_deg = {f.spring_inclination_deg} must lie in (-20, 20)")
+        if not f.top_mount_height_m > f.ball_joint_height_m + 0.2:
+            raise ParameterError(
+                "front.top_mount_height_m must be at least 0.2 m above front.ball_joint_height_m")
+        if not (f.guide_below_top_mount_m + f.guide_length_l_m
+                < f.strut_lower_mount_below_top_m + 0.1):
+            raise ParameterError(
+                "front.guide_length_l_m: the piston (guide + l) must stay within 0.1 m of the "
+                "strut's lower mount")
+        if not f.spring_upper_seat_below_top_m < f.spring_lower_seat_below_top_m:
+            raise ParameterError(
+                "front.spring_upper_seat_below_top_m must be above (smaller than) the lower seat")
+        if not self.rear.spring_upper_height_m > self.rear.spring_lower_height_m:
+            raise ParameterError("rear.spring_upper_height_m must exceed spring_lower_height_m")
+        if self.parts_mass_kg() >= self.mass.total_mass_kg:
+            raise ParameterError(
+                f"mass.total_mass_kg = {self.mass.total_mass_kg} must exceed the suspension "
+                f"parts' mass {self.parts_mass_kg():.1f} kg")
+        return self
+
+    def parts_mass_kg(self):
+        """Mass of every body except the chassis (sprung body)."""
+        m = self.mass
+        front_corner = (m.front_wheel_kg + m.front_knuckle_kg + m.front_lower_arm_kg
+                        + m.piston_rod_kg + m.strut_slider_kg + m.tie_rod_kg)
+        rear_corner = m.rear_wheel_kg + m.rear_carrier_kg
+        return 2 * front_corner + 2 * rear_corner + m.rack_kg
+
+
+def _positive(group, group_name, names):
+    for name in names:
+        value = getattr(group, name)
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise ParameterError(f"{group_name}.{name} = {value!r} must be a finite number > 0")
+
+
+def _nonnegative(group, group_name, names):
+    for name in names:
+        value = getattr(group, name)
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            raise ParameterError(f"{group_name}.{name} = {value!r} must be a finite number >= 0")
