@@ -78,14 +78,28 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
 
     friction_systems = {}
     desired_sources = [(rack_command.get_output_port(0), 1)]
+    actuation_sources = []
     for side, declaration in friction_declarations.items():
-        system = builder.AddSystem(friction.make_system(plant, declaration, side))
+        system = builder.AddSystem(friction.make_system(
+            plant, declaration, side, guide_length_l_m=params.front.guide_length_l_m))
         system.set_name(f"strut_friction_{side}")
         system.connect(builder, plant)
         friction_systems[side] = system
+        actuation_sources.append(system.actuation_output_port())
         if system.desired_state_output_port() is not None:
             desired_sources.append((system.desired_state_output_port(), system.num_pd_pairs()))
     _connect_desired_state(builder, plant, car.instance, desired_sources)
+    if actuation_sources:
+        # Actuators of the car instance, in order: rack servo (no feed-forward), then the pairs.
+        zero = builder.AddSystem(ConstantVectorSource(np.zeros(1)))
+        zero.set_name("rack_feedforward")
+        mux = builder.AddSystem(Multiplexer(
+            [1] + [port.size() for port in actuation_sources]))
+        mux.set_name("actuation_mux")
+        builder.Connect(zero.get_output_port(0), mux.get_input_port(0))
+        for i, port in enumerate(actuation_sources):
+            builder.Connect(port, mux.get_input_port(i + 1))
+        builder.Connect(mux.get_output_port(0), plant.get_actuation_input_port(car.instance))
 
     if meshcat is not None:
         from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams, Role

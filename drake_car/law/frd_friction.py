@@ -1,0 +1,208 @@
+"""The paper's FRD friction law (Harlecki & Kubas, section 2.2 and 3; ADAMS "cylindrical joint
+with friction"), as pure functions of scalars. No Drake here.
+
+Per friction pair (translation along the strut axis, or rotation about it), with relative
+velocity v, creep Δ (relative displacement accumulated in the static phase), coefficients
+μs ≥ μd ≥ 0, threshold velocity Δv > 0 and maximum creep Δmax > 0:
+
+Static phase, |v| ≤ Δv:   μ = -(1 - β) μ1 sgn(Δ) - β μs sgn(v)                         (1)
+    β = β(|v|) rises from 0 at v = 0 to 1 at |v| = Δv;
+    μ1 = μ1(|Δ|) rises from 0 at Δ = 0 to μs at |Δ| = Δmax and stays μs beyond.
+    Shapes: "cubic" is ADAMS' STEP, s(x) = x²(3 - 2x); "linear" is s(x) = x (x clipped to [0, 1]).
+Kinetic phase, |v| > Δv:  μ = -μk(|v|) sgn(v)                                            (2)
+    μk = μs + (μd - μs) k²(3 - 2k), k = (|v| - Δv) / (0.5 Δv), for Δv < |v| < 1.5 Δv;
+    μk = μd above 1.5 Δv.                                                                (3)
+Normal force from the joint's transverse reaction force F and bending moment M:
+    N = |M/d + F| + F0/μs       (paper's vector form, default)                            (4)
+    N = |F| + |M|/d + F0/μs     (ADAMS documentation's magnitude sum, option)
+Friction force and moment:  F_fric = μ N  (5),   M_fric = μ_rot (N r + M0/μs)  (6).
+
+Phases: static -> kinetic when |v| > Δv, and then the creep (so μ1) resets to 0; kinetic ->
+static when |v| falls to Δv or below, and the creep accumulates again from 0.
+
+Where this departs from or fills in the paper: the creep is the reversible pre-sliding
+displacement and is bounded to |Δ| ≤ Δmax (motion beyond it, still at |v| ≤ Δv, is sliding that
+does not build up further "memory"); μ1 saturates at μs there, as the paper states. sgn(0) = 0.
+"""
+
+import dataclasses
+import math
+
+STATIC = 0.0
+KINETIC = 1.0
+
+SHAPES = ("cubic", "linear")
+NORMAL_FORCE_FORMS = ("vector", "magnitude_sum")
+
+
+class FrictionParameterError(ValueError):
+    """A friction parameter is out of range; the message names it."""
+
+
+@dataclasses.dataclass(frozen=True)
+class FrictionPairLaw:
+    """Parameters of one friction pair. ``dv`` in m/s (rad/s), ``dmax`` in m (rad)."""
+
+    mu_s: float
+    mu_d: float
+    dv: float = 1e-4
+    dmax: float = 5e-6
+    beta_shape: str = "cubic"
+    creep_shape: str = "cubic"
+
+    def __post_init__(self):
+        for name in ("mu_s", "mu_d", "dv", "dmax"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise FrictionParameterError(f"{name} = {value!r} must be a finite number")
+        if self.mu_d < 0:
+            raise FrictionParameterError(f"mu_d = {self.mu_d} must be >= 0")
+        if self.mu_s < self.mu_d:
+            raise FrictionParameterError(
+                f"mu_s = {self.mu_s} must be >= mu_d = {self.mu_d}")
+        if not self.dv > 0:
+            raise FrictionParameterError(f"dv (threshold velocity) = {self.dv} must be > 0")
+        if not self.dmax > 0:
+            raise FrictionParameterError(f"dmax (maximum creep) = {self.dmax} must be > 0")
+        for name in ("beta_shape", "creep_shape"):
+            if getattr(self, name) not in SHAPES:
+                raise FrictionParameterError(
+                    f"{name} = {getattr(self, name)!r} must be one of {SHAPES}")
+
+    @property
+    def lubricated(self):
+        return self.mu_s == 0.0
+
+
+def _sign(x):
+    return 1.0 if x > 0 else (-1.0 if x < 0 else 0.0)
+
+
+def shape(x, kind):
+    """s(x) on [0, 1], clipped outside: cubic STEP x²(3 - 2x) or linear x."""
+    x = min(max(x, 0.0), 1.0)
+    return x * x * (3.0 - 2.0 * x) if kind == "cubic" else x
+
+
+def shape_max_slope(kind):
+    """max ds/dx of the shape: 1.5 for the cubic STEP, 1 for linear."""
+    return 1.5 if kind == "cubic" else 1.0
+
+
+def beta(speed, law: FrictionPairLaw):
+    """β(|v|): 0 at rest, 1 at the threshold velocity Δv."""
+    return shape(abs(speed) / law.dv, law.beta_shape)
+
+
+def mu1(creep, law: FrictionPairLaw):
+    """μ1(|Δ|): 0 at zero creep, μs at |Δ| ≥ Δmax."""
+    return law.mu_s * shape(abs(creep) / law.dmax, law.creep_shape)
+
+
+def mu_kinetic(speed, law: FrictionPairLaw):
+    """Eq. (3): μs at |v| ≤ Δv, cubic blend down to μd at 1.5 Δv, μd above."""
+    speed = abs(speed)
+    if speed <= law.dv:
+        return law.mu_s
+    if speed >= 1.5 * law.dv:
+        return law.mu_d
+    k = (speed - law.dv) / (0.5 * law.dv)
+    return law.mu_s + (law.mu_d - law.mu_s) * k * k * (3.0 - 2.0 * k)
+
+
+def friction_coefficient(velocity, creep, law: FrictionPairLaw):
+    """Signed μ of eqs. (1)-(3) and its parts: returns (mu, beta, mu1, phase).
+
+    ``phase`` is STATIC for |v| ≤ Δv and KINETIC above; in the kinetic phase β = 1, μ1 = 0.
+    """
+    if abs(velocity) <= law.dv:
+        b = beta(velocity, law)
+        m1 = mu1(creep, law)
+        mu = -(1.0 - b) * m1 * _sign(creep) - b * law.mu_s * _sign(velocity)
+        return mu, b, m1, STATIC
+    return -mu_kinetic(velocity, law) * _sign(velocity), 1.0, 0.0, KINETIC
+
+
+def advance_creep(creep, phase, velocity, displacement, law: FrictionPairLaw):
+    """Phase logic and creep accumulation over one step.
+
+    ``velocity`` is the relative velocity at the end of the step, ``displacement`` the relative
+    displacement over it. Returns (creep, phase) at the end of the step.
+    """
+    if abs(velocity) > law.dv:
+        return 0.0, KINETIC
+    if phase == KINETIC:  # re-entering the static phase: creep starts again from zero
+        return 0.0, STATIC
+    return min(max(creep + displacement, -law.dmax), law.dmax), STATIC
+
+
+def normal_force(f_transverse, m_transverse, overlap, preload_force, mu_s, form="vector"):
+    """Eq. (4). ``f_transverse`` and ``m_transverse`` are 3-vectors (or 2-vectors) of the joint's
+    reaction force and bending moment perpendicular to the joint axis, the moment taken about the
+    middle of the overlap; ``overlap`` is d > 0 (m). Returns N ≥ 0 (N)."""
+    if not overlap > 0:
+        raise FrictionParameterError(f"overlap d = {overlap} must be > 0")
+    preload = preload_force / mu_s if preload_force > 0 else 0.0
+    if form == "vector":
+        total = [m / overlap + f for m, f in zip(m_transverse, f_transverse)]
+        return math.sqrt(sum(x * x for x in total)) + preload
+    if form == "magnitude_sum":
+        return (math.sqrt(sum(x * x for x in f_transverse))
+                + math.sqrt(sum(x * x for x in m_transverse)) / overlap + preload)
+    raise FrictionParameterError(f"normal-force form {form!r} must be one of {NORMAL_FORCE_FORMS}")
+
+
+def friction_force(mu, normal):
+    """Eq. (5): F_fric = μ N."""
+    return mu * normal
+
+
+def friction_moment(mu_rot, normal, rod_radius, preload_moment, mu_s):
+    """Eq. (6): M_fric = μ_rot (N r + M0/μs)."""
+    preload = preload_moment / mu_s if preload_moment > 0 else 0.0
+    return mu_rot * (normal * rod_radius + preload)
+
+
+@dataclasses.dataclass(frozen=True)
+class StrutFrictionParameters:
+    """Both pairs of a cylindrical joint with friction (paper section 3). Paper values default,
+    with the "practically realistic" dry set (μs, μd) = (0.2, 0.15)."""
+
+    mu_s: float = 0.2
+    mu_d: float = 0.15
+    dv_translation_mps: float = 1e-4
+    dmax_translation_m: float = 5e-6
+    dv_rotation_radps: float = 1e-4
+    dmax_rotation_rad: float = 5e-6
+    beta_shape: str = "cubic"
+    creep_shape: str = "cubic"
+    rod_radius_m: float = 0.011
+    preload_force_N: float = 0.0  # F0
+    preload_moment_Nm: float = 0.0  # M0
+    normal_force_form: str = "vector"
+
+    def __post_init__(self):
+        self.translation()
+        self.rotation()
+        if not (math.isfinite(self.rod_radius_m) and self.rod_radius_m > 0):
+            raise FrictionParameterError(f"rod_radius_m = {self.rod_radius_m} must be > 0")
+        for name in ("preload_force_N", "preload_moment_Nm"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise FrictionParameterError(f"{name} = {value} must be >= 0")
+            if value > 0 and self.mu_s == 0:
+                raise FrictionParameterError(
+                    f"{name} = {value} with mu_s = 0: eq. (4)/(6) divide the preload by mu_s; "
+                    "a lubricated strut has no preload")
+        if self.normal_force_form not in NORMAL_FORCE_FORMS:
+            raise FrictionParameterError(
+                f"normal_force_form = {self.normal_force_form!r} must be one of "
+                f"{NORMAL_FORCE_FORMS}")
+
+    def translation(self):
+        return FrictionPairLaw(self.mu_s, self.mu_d, self.dv_translation_mps,
+                               self.dmax_translation_m, self.beta_shape, self.creep_shape)
+
+    def rotation(self):
+        return FrictionPairLaw(self.mu_s, self.mu_d, self.dv_rotation_radps,
+                               self.dmax_rotation_rad, self.beta_shape, self.creep_shape)

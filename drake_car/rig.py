@@ -1,0 +1,190 @@
+"""A one-degree-of-freedom friction rig: a block on a prismatic joint over a moving belt.
+
+The strut friction system acts on the block-belt joint with a given normal force; the block is
+loaded by an external force F(t) = F0 + Ḟ·t + A·sin(2πft) (switched off after ``force_off_s``),
+a spring to a fixed anchor and, if the joint is inclined, gravity. The belt moves at constant
+speed (a stiff SAP servo), or is welded to the world when its speed is zero.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
+from pydrake.multibody.tree import (
+    PdControllerGains, PrismaticJoint, RevoluteJoint, SpatialInertia, UnitInertia)
+from pydrake.math import RigidTransform
+from pydrake.systems.framework import DiagramBuilder, LeafSystem
+
+from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.systems.strut_friction import StrutFriction, declare_pairs
+
+GRAVITY_MPS2 = 9.81
+
+
+@dataclasses.dataclass
+class RigOptions:
+    mass_kg: float = 30.0
+    normal_force_N: float = 3000.0
+    force_N: float = 0.0
+    force_rate_Nps: float = 0.0
+    force_amp_N: float = 0.0
+    force_freq_hz: float = 0.0
+    force_off_s: float = math.inf
+    spring_Npm: float = 0.0
+    belt_speed_mps: float = 0.0
+    x0_m: float = 0.0
+    v0_mps: float = 0.0
+    incline_deg: float = 0.0  # joint axis raised by this angle; gravity then loads the joint
+    rotational: bool = False  # a revolute joint (rotation pair) instead of a prismatic one
+    rod_radius_m: float = 0.011
+    time_step_s: float = 1e-3
+    scheme: str = "fast"
+    friction: bool = True
+
+    def validate(self):
+        checks = [("mass_kg", self.mass_kg > 0), ("normal_force_N", self.normal_force_N >= 0),
+                  ("spring_Npm", self.spring_Npm >= 0), ("time_step_s", self.time_step_s > 0),
+                  ("force_freq_hz", self.force_freq_hz >= 0), ("force_off_s", self.force_off_s >= 0),
+                  ("incline_deg", -90 < self.incline_deg < 90)]
+        for name, ok in checks:
+            value = getattr(self, name)
+            if not ok or (isinstance(value, float) and math.isnan(value)):
+                raise ValueError(f"rig option {name} = {value} is out of range")
+        if self.rotational and self.belt_speed_mps != 0:
+            raise ValueError("rig option belt_speed_mps must be 0 for a rotational rig")
+        return self
+
+    def external_force(self, t):
+        if t >= self.force_off_s:
+            return 0.0
+        return (self.force_N + self.force_rate_Nps * t
+                + self.force_amp_N * math.sin(2 * math.pi * self.force_freq_hz * t))
+
+
+class RigLoad(LeafSystem):
+    """Generalized force on the block's joint: F(t) - k·x_world (+ nothing else).
+
+    .. pydrake_system::
+
+        name: RigLoad
+        input_ports:
+        - plant_state
+        output_ports:
+        - generalized_force
+    """
+
+    def __init__(self, plant, options: RigOptions, block_joint, belt_joint):
+        super().__init__()
+        self._options = options
+        self._nv = plant.num_velocities()
+        self._q_block = block_joint.position_start()
+        self._v_block = block_joint.velocity_start()
+        self._q_belt = None if belt_joint is None else belt_joint.position_start()
+        self._state_port = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
+        self.DeclareVectorOutputPort("generalized_force", self._nv, self._calc)
+
+    def _calc(self, context, output):
+        x = self._state_port.Eval(context)
+        position = x[self._q_block] + (0.0 if self._q_belt is None else x[self._q_belt])
+        u = np.zeros(self._nv)
+        u[self._v_block] = (self._options.external_force(context.get_time())
+                            - self._options.spring_Npm * position)
+        output.SetFromVector(u)
+
+
+@dataclasses.dataclass
+class Rig:
+    diagram: object
+    plant: object
+    friction: object  # StrutFriction or None
+    block_joint: object
+    belt_joint: object
+    options: RigOptions
+
+    def set_initial_state(self, root_context):
+        pc = self.plant.GetMyMutableContextFromRoot(root_context)
+        q = self.plant.GetPositions(pc)
+        v = self.plant.GetVelocities(pc)
+        q[self.block_joint.position_start()] = self.options.x0_m
+        v[self.block_joint.velocity_start()] = self.options.v0_mps
+        if self.belt_joint is not None:
+            v[self.belt_joint.velocity_start()] = self.options.belt_speed_mps
+        self.plant.SetPositions(pc, q)
+        self.plant.SetVelocities(pc, v)
+
+
+def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None) -> Rig:
+    options.validate()
+    params = params or StrutFrictionParameters()
+    builder = DiagramBuilder()
+    plant, _ = AddMultibodyPlant(
+        MultibodyPlantConfig(time_step=options.time_step_s, discrete_contact_approximation="sap"),
+        builder)
+    theta = math.radians(options.incline_deg)
+    axis = np.array([math.cos(theta), 0.0, math.sin(theta)])
+    belt_instance = plant.AddModelInstance("belt")
+    block_instance = plant.AddModelInstance("block")
+    belt = plant.AddRigidBody("belt", belt_instance,
+                              SpatialInertia(100.0, np.zeros(3), UnitInertia(1.0, 1.0, 1.0)))
+    belt_joint = None
+    if options.belt_speed_mps != 0:
+        belt_joint = plant.AddJoint(PrismaticJoint(
+            "belt_slide", plant.world_frame(), belt.body_frame(), axis))
+        servo = plant.AddJointActuator("belt_servo", belt_joint)
+        servo.set_controller_gains(PdControllerGains(p=1e6, d=1e5))
+    else:
+        plant.WeldFrames(plant.world_frame(), belt.body_frame(), RigidTransform())
+    if options.rotational:
+        inertia = SpatialInertia(options.mass_kg, np.zeros(3),
+                                 UnitInertia(0.01, 0.01, 0.01))  # 0.1 m radius of gyration
+        block = plant.AddRigidBody("block", block_instance, inertia)
+        block_joint = plant.AddJoint(RevoluteJoint(
+            "block_joint", belt.body_frame(), block.body_frame(), axis))
+    else:
+        block = plant.AddRigidBody("block", block_instance, SpatialInertia(
+            options.mass_kg, np.zeros(3), UnitInertia(0.01, 0.01, 0.01)))
+        block_joint = plant.AddJoint(PrismaticJoint(
+            "block_joint", belt.body_frame(), block.body_frame(), axis))
+    pairs = []
+    if options.friction:
+        pairs = declare_pairs(plant, None if options.rotational else block_joint,
+                              block_joint if options.rotational else None, options.scheme,
+                              prefix="rig_friction")
+    plant.Finalize()
+
+    friction = None
+    if options.friction:
+        friction = builder.AddSystem(StrutFriction(
+            plant, pairs, params, scheme=options.scheme,
+            constant_normal_force_N=options.normal_force_N, name="rig_friction"))
+        friction.set_name("rig_friction")
+        friction.connect(builder, plant)
+        builder.Connect(friction.actuation_output_port(),
+                        plant.get_actuation_input_port(block_instance))
+        if friction.desired_state_output_port() is not None:
+            builder.Connect(friction.desired_state_output_port(),
+                            plant.get_desired_state_input_port(block_instance))
+    load = builder.AddSystem(RigLoad(plant, options, block_joint, belt_joint))
+    load.set_name("rig_load")
+    builder.Connect(plant.get_state_output_port(), load.GetInputPort("plant_state"))
+    builder.Connect(load.get_output_port(0), plant.get_applied_generalized_force_input_port())
+    if belt_joint is not None:
+        belt_command = builder.AddSystem(_BeltCommand(options.belt_speed_mps))
+        builder.Connect(belt_command.get_output_port(0),
+                        plant.get_desired_state_input_port(belt_instance))
+    diagram = builder.Build()
+    return Rig(diagram, plant, friction, block_joint, belt_joint, options)
+
+
+class _BeltCommand(LeafSystem):
+    """Desired belt state [v·t, v]."""
+
+    def __init__(self, speed):
+        super().__init__()
+        self._speed = speed
+        self.DeclareVectorOutputPort("belt_desired_state", 2, self._calc)
+
+    def _calc(self, context, output):
+        t = context.get_time()
+        output.SetFromVector([self._speed * t, self._speed])
