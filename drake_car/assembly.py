@@ -86,8 +86,12 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
         system.connect(builder, plant)
         friction_systems[side] = system
         actuation_sources.append(system.actuation_output_port())
-        if system.desired_state_output_port() is not None:
-            desired_sources.append((system.desired_state_output_port(), system.num_pd_pairs()))
+        port = system.desired_state_output_port()
+        if port is None:  # explicit scheme: its actuators have no PD; their desired state is unused
+            zeros = builder.AddSystem(ConstantVectorSource(np.zeros(2 * system.num_pairs())))
+            zeros.set_name(f"strut_friction_{side}_no_desired_state")
+            port = zeros.get_output_port(0)
+        desired_sources.append((port, system.num_pairs()))
     _connect_desired_state(builder, plant, car.instance, desired_sources)
     if actuation_sources:
         # Actuators of the car instance, in order: rack servo (no feed-forward), then the pairs.

@@ -188,3 +188,48 @@ class _BeltCommand(LeafSystem):
     def _calc(self, context, output):
         t = context.get_time()
         output.SetFromVector([self._speed * t, self._speed])
+
+
+RIG_COLUMNS = ("t", "x_m", "v_mps", "creep_m", "mu", "phase", "friction_N")
+
+
+def simulate_rig(options: RigOptions, params: StrutFrictionParameters | None = None, *,
+                 duration_s=1.0, record_period_s=None):
+    """Runs the rig; returns columns ``RIG_COLUMNS`` sampled every ``record_period_s``
+    (default: every step). ``friction_N`` is the force the plant applied (the net actuation,
+    PD included); x_m the block's position from the spring anchor; v_mps relative to the belt."""
+    from pydrake.systems.analysis import Simulator
+
+    if not duration_s > 0:
+        raise ValueError(f"duration_s = {duration_s} must be > 0")
+    rig = build_rig(options, params)
+    simulator = Simulator(rig.diagram)
+    root = simulator.get_mutable_context()
+    rig.set_initial_state(root)
+    simulator.Initialize()
+    plant = rig.plant
+    pc = plant.GetMyContextFromRoot(root)
+    block_instance = plant.GetModelInstanceByName("block")
+    friction_context = None if rig.friction is None else rig.friction.GetMyContextFromRoot(root)
+    period = record_period_s or options.time_step_s
+    steps = int(round(duration_s / period))
+    out = {c: np.empty(steps + 1) for c in RIG_COLUMNS}
+    qb = rig.block_joint.position_start()
+    vb = rig.block_joint.velocity_start()
+    qbelt = None if rig.belt_joint is None else rig.belt_joint.position_start()
+    for k in range(steps + 1):
+        simulator.AdvanceTo(k * period)
+        q = plant.GetPositions(pc)
+        v = plant.GetVelocities(pc)
+        out["t"][k] = root.get_time()
+        out["x_m"][k] = q[qb] + (0.0 if qbelt is None else q[qbelt])
+        out["v_mps"][k] = v[vb]
+        if friction_context is None:
+            out["creep_m"][k] = out["mu"][k] = out["phase"][k] = out["friction_N"][k] = 0.0
+            continue
+        diag = rig.friction.GetOutputPort("diagnostics").Eval(friction_context)
+        out["creep_m"][k] = diag[1]
+        out["mu"][k] = diag[4]
+        out["phase"][k] = diag[5]
+        out["friction_N"][k] = plant.get_net_actuation_output_port(block_instance).Eval(pc)[0]
+    return out
