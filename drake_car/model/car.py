@@ -110,6 +110,11 @@ def add_car(plant, params: CarParameters | None = None, *, model_path=None,
         plant.AddForceElement(LinearSpringDamper(
             body_a, p_a, body_b, p_b, setting.free_length_m, setting.stiffness_Npm, 0.0))
     for side in SIDES:
+        for name_a, name_b in ((f"top_mount_{side}", f"rod_top_{side}"),
+                               (f"tie_rod_outer_{side}", f"tie_rod_end_{side}")):
+            body_a, p_a = frame_point(plant, name_a, instance)
+            body_b, p_b = frame_point(plant, name_b, instance)
+            plant.AddBallConstraint(body_a, p_a, body_b, p_b)
         body_a, p_a = frame_point(plant, f"anti_spin_chassis_{side}", instance)
         body_b, p_b = frame_point(plant, f"anti_spin_rod_{side}", instance)
         plant.AddDistanceConstraint(body_a, p_a, body_b, p_b, ANTI_SPIN_LINK_M)
@@ -131,7 +136,7 @@ def loop_closure_error(car: CarModel, plant_context):
     plant, world = car.plant, car.plant.world_frame()
     worst = 0.0
     for side in SIDES:
-        for a, b in ((f"piston_rod_{side}", f"top_mount_{side}"),
+        for a, b in ((f"rod_top_{side}", f"top_mount_{side}"),
                      (f"tie_rod_outer_{side}", f"tie_rod_end_{side}")):
             pa = plant.CalcPointsPositions(plant_context, plant.GetFrameByName(a, car.instance),
                                            np.zeros(3), world)

@@ -12,7 +12,7 @@ import numpy as np
 from pydrake.multibody.plant import MultibodyPlant
 
 from drake_car.model.geometry import ANTI_SPIN_LINK_M, SIDES
-from drake_car.model.loading import ModelSource, load_car
+from drake_car.model.loading import ModelFileError, ModelSource, load_car
 
 
 class KinematicsError(RuntimeError):
@@ -60,6 +60,13 @@ class SuspensionKinematics:
             self._q_index[("rear", side)] = np.array([joint.position_start()])
         self._rack = plant.GetJointByName("rack_slide", inst)
         self.q = plant.GetPositions(self.context).copy()
+        for side in SIDES:
+            error = float(np.max(np.abs(self.closure_residual(side))))
+            if error > 1e-6:
+                raise ModelFileError(
+                    f"{source.path or source.label}: the {side} front corner's loops do not close "
+                    f"at the design position (error {error:.2e} m > 1e-6 m): the top-mount, "
+                    "tie-rod or anti-spin points of the rod and the chassis do not coincide")
         self._design_wheel_z = {
             (axle, side): self._point(f"wheel_{axle}_{side}")[2]
             for axle in ("front", "rear") for side in SIDES}
@@ -74,7 +81,7 @@ class SuspensionKinematics:
 
     def closure_residual(self, side):
         """The 7 loop-closure residuals of a front corner (m)."""
-        top = self._point(f"piston_rod_{side}") - self._point(f"top_mount_{side}")
+        top = self._point(f"rod_top_{side}") - self._point(f"top_mount_{side}")
         tie = self._point(f"tie_rod_outer_{side}") - self._point(f"tie_rod_end_{side}")
         spin = (np.linalg.norm(self._point(f"anti_spin_rod_{side}")
                                - self._point(f"anti_spin_chassis_{side}")) - ANTI_SPIN_LINK_M)

@@ -101,7 +101,7 @@ class FrontSuspensionParameters:
     rack_height_m: float = 0.29  # chosen for small bump steer (< 1 deg over +-60 mm)
     rack_half_length_m: float = 0.17
     rack_stroke_m: float = 0.07
-    tie_rod_outer_m: tuple = (0.15, 0.545, 0.3135)
+    tie_rod_outer_m: tuple = (0.15, 0.595, 0.3135)  # near-parallel steering
 
 
 @dataclasses.dataclass

@@ -6,11 +6,13 @@ changes a parameter gets its own file generated the same way.
 
 Topology (per front side): chassis -(revolute)- lower arm -(ball)- knuckle (carries the strut
 cylinder) -(prismatic, strut axis)- strut slider -(revolute, strut axis)- piston rod; the rod's
-top closes the loop to the chassis with a ``drake:ball_constraint`` (top mount). The rack is a
+top closes the loop to the chassis at the top mount. The rack is a
 prismatic joint; each tie rod hangs on a universal joint at the rack end and closes the second
-loop with a ``drake:ball_constraint`` at the steering arm. The rear is two trailing arms.
-Springs and the rod's anti-spin link are added in code (``drake_car.model.car``) between the
-named frames this file declares.
+loop at the steering arm. The rear is two trailing arms. The file declares the hard points as
+named frames (``top_mount_left`` on the chassis, ``rod_top_left`` on the rod, ...); the loop
+closures (ball constraints at the top mounts and the tie-rod ends, the rod's anti-spin link)
+and the springs are added in code (``drake_car.model.car``) between those frames, so the
+frames are the one statement of where the loops close.
 """
 
 import argparse
@@ -90,16 +92,6 @@ def _frame(name, link, point):
   </frame>"""
 
 
-def _ball_constraint(body_a, p_a, body_b, p_b):
-    return f"""
-  <drake:ball_constraint>
-    <drake:ball_constraint_body_A>{body_a}</drake:ball_constraint_body_A>
-    <drake:ball_constraint_body_B>{body_b}</drake:ball_constraint_body_B>
-    <drake:ball_constraint_p_AP>{_v(p_a)}</drake:ball_constraint_p_AP>
-    <drake:ball_constraint_p_BQ>{_v(p_b)}</drake:ball_constraint_p_BQ>
-  </drake:ball_constraint>"""
-
-
 def chassis_mass_and_com(params: CarParameters):
     """Chassis mass and CoG such that the whole car has [ESC]'s mass and CoG position."""
     m = params.mass
@@ -126,7 +118,7 @@ def generate_sdformat(params: CarParameters) -> str:
     body += _visual("body", [-1.2, 0, 0.78, 0, 0, 0],
                     "<box><size>3.9 1.62 0.55</size></box>", [0.2, 0.4, 0.8, 0.25])
     parts = [_link("chassis", [0, 0, 0], body)]
-    frames, constraints = [], []
+    frames = []
     wheel_geometry = (f"<cylinder><radius>{radius}</radius>"
                       f"<length>{params.tyre.width_m}</length></cylinder>")
     wheel_inertia = (0.5 * m.wheel_spin_inertia_kgm2 + 0.02, m.wheel_spin_inertia_kgm2)
@@ -199,11 +191,9 @@ def generate_sdformat(params: CarParameters) -> str:
         second = np.cross(tie_direction, [1.0, 0.0, 0.0])
         parts.append(_joint(f"tie_rod_inner_{side_name}", "universal", "steering_rack", tie,
                             tie_inner, axis=[1, 0, 0], axis2=second / np.linalg.norm(second)))
-        constraints.append(_ball_constraint("chassis", p.top_mount, rod, [0, 0, 0]))
-        constraints.append(_ball_constraint(knuckle, tie_outer - p.ball_joint, tie,
-                                            tie_outer - tie_inner))
         frames += [
             _frame(f"top_mount_{side_name}", "chassis", p.top_mount),
+            _frame(f"rod_top_{side_name}", rod, p.top_mount),
             _frame(f"spring_upper_seat_{side_name}", "chassis", p.spring_upper_seat),
             _frame(f"spring_lower_seat_{side_name}", knuckle, p.spring_lower_seat),
             _frame(f"anti_spin_chassis_{side_name}", "chassis", p.anti_spin_chassis),
@@ -244,7 +234,7 @@ def generate_sdformat(params: CarParameters) -> str:
         "     (see drake_car/model/parameters.py for every number's source). -->\n"
         "<sdf version=\"1.9\" xmlns:drake=\"http://drake.mit.edu\">\n"
         "<model name=\"car\">")
-    return header + "".join(parts + frames + constraints) + "\n</model>\n</sdf>\n"
+    return header + "".join(parts + frames) + "\n</model>\n</sdf>\n"
 
 
 def main():

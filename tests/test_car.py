@@ -1,0 +1,216 @@
+"""The car model: files, loop closure, kinematics, settling, strut friction on the car."""
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.systems.analysis import Simulator
+
+from drake_car.assembly import build_car_diagram
+from drake_car.kinematics_rig import run_kinematics_sweep
+from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.model.car import model_source
+from drake_car.model.geometry import SIDES
+from drake_car.model.kinematics import KinematicsError, SuspensionKinematics
+from drake_car.model.loading import ModelFileError, ModelSource, load_car
+from drake_car.model.parameters import CarParameters, ParameterError
+from drake_car.model.sdformat import DEFAULT_MODEL_PATH, generate_sdformat
+from drake_car.settle import run_settle
+from drake_car.systems.strut_friction import StrutFrictionSetup
+
+DMAX = StrutFrictionParameters().dmax_translation_m
+
+
+def test_committed_model_file_is_the_generators_output():
+    assert DEFAULT_MODEL_PATH.read_text() == generate_sdformat(CarParameters()), (
+        "urdf/car.sdf is stale: run python -m drake_car.model.sdformat")
+
+
+@pytest.fixture(scope="module")
+def sweep():
+    return run_kinematics_sweep(CarParameters(), travel_m=0.08, points=17)
+
+
+def test_each_front_corner_has_one_degree_of_freedom():
+    params = CarParameters()
+    kin = SuspensionKinematics(model_source(params), params.front.guide_length_l_m)
+    for side in SIDES:
+        for travel in (-0.08, 0.0, 0.08):
+            kin.solve("front", side, travel)
+            jacobian = kin.closure_jacobian(side)
+            # 7 closure equations (top mount 3, tie rod 3, anti-spin 1) on 8 coordinates.
+            singular = np.linalg.svd(jacobian, compute_uv=False)
+            assert jacobian.shape == (7, 8)
+            assert singular[-1] > 1e-3 * singular[0], f"{side} {travel}: loops degenerate"
+            assert 8 - np.linalg.matrix_rank(jacobian, tol=1e-6 * singular[0]) == 1
+
+
+def test_loop_closure_over_travel_and_steering(sweep):
+    assert max(sweep.kinematics["closure_error_m"]) < 1e-6
+    assert max(sweep.steering["closure_error_m"]) < 1e-6
+
+
+def test_kinematics_signs_and_ranges(sweep):
+    k = sweep.kinematics
+    side = np.array(k["side"])
+    for s in SIDES:
+        mask = side == s
+        travel = np.array(k["wheel_travel_m"])[mask]
+        assert_allclose(travel[[0, -1]], [-0.08, 0.08])
+        strut = np.array(k["strut_length_m"])[mask]
+        overlap = np.array(k["overlap_m"])[mask]
+        assert np.all(np.diff(strut) < 0), f"{s}: bump must shorten the strut"
+        assert np.all(np.diff(overlap) > 0), f"{s}: overlap must grow in bump"
+        assert np.all(overlap > 0), f"{s}: the rod must stay in the cylinder"
+        design = np.argmin(np.abs(travel))
+        assert_allclose(np.array(k["caster_deg"])[mask][design], 2.3, atol=1e-4)
+        assert_allclose(np.array(k["kingpin_deg"])[mask][design], 12.0, atol=1e-4)
+        assert np.all(np.abs(np.array(k["camber_deg"])[mask]) < 5)
+    # Left and right are mirror images.
+    for name in ("camber_deg", "toe_deg", "strut_length_m", "overlap_m"):
+        values = np.array(k[name])
+        assert_allclose(values[side == "left"], values[side == "right"], atol=1e-9)
+    st = sweep.steering
+    rack = np.array(st["rack_m"])
+    left, right = np.array(st["steer_left_deg"]), np.array(st["steer_right_deg"])
+    to_left = rack > 0
+    assert np.all(left[to_left] > 0) and np.all(right[to_left] > 0), "rack left steers left"
+    assert np.all(left[rack < 0] < 0) and np.all(right[rack < 0] < 0)
+
+
+@pytest.fixture(scope="module")
+def settled():
+    return run_settle(CarParameters(), duration_s=4.0)
+
+
+def test_settled_corner_loads_match_design_axle_loads(settled):
+    loads, design = settled.corner_loads_N, settled.design_axle_loads_N
+    assert_allclose(loads["fl"] + loads["fr"], design["front"], rtol=0.02)
+    assert_allclose(loads["rl"] + loads["rr"], design["rear"], rtol=0.02)
+    assert_allclose(loads["fl"], loads["fr"], rtol=1e-6)
+    assert_allclose(settled.total_mass_kg, CarParameters().mass.total_mass_kg, rtol=1e-12)
+    # SAP's regularised constraints: closure well inside the 1e-6 m requirement.
+    assert settled.loop_closure_error_m < 1e-6
+    # Sagged from the design height by tyre deflection plus spring travel, not more than 5 cm.
+    r0 = CarParameters().tyre.unloaded_radius_m
+    for where, height in settled.ride_height_m.items():
+        assert r0 - 0.05 < height < r0, where
+
+
+def test_jammed_rods_do_not_return(settled):
+    """Paper Fig. 14, curve 3, phase I: with μs = 0.4 the rods stop where they jam."""
+    params = CarParameters()
+    params.front.strut_damping_Nspm = 0.0
+    friction = StrutFrictionSetup(StrutFrictionParameters(mu_s=0.4, mu_d=0.3))
+    jammed = run_settle(params, friction=friction, duration_s=3.0)
+    t = jammed.history["t"]
+    for side in SIDES:
+        d = jammed.history[f"d_{side}_m"]
+        after = t >= 0.8
+        # Stuck: from 0.8 s on the rod moves by its creep at most.
+        assert np.ptp(d[after]) <= 2 * DMAX, side
+        # ...and away from where a lubricated rod settles (by far more than the creep).
+        assert abs(d[-1] - settled.strut_overlap_m[side]) > 200 * DMAX, side
+
+
+def test_normal_force_matches_reaction():
+    """N of eq. (4) from the system equals N computed here from the strut joint's reaction,
+    with the overlap and the mid-point taken from the bodies' world positions."""
+    params = CarParameters()
+    params.front.strut_damping_Nspm = 0.0
+    built = build_car_diagram(params, friction=StrutFrictionSetup())
+    simulator = Simulator(built.diagram)
+    simulator.AdvanceTo(1.0)
+    root = simulator.get_context()
+    plant, car = built.plant, built.car
+    pc = plant.GetMyContextFromRoot(root)
+    reactions = plant.get_reaction_forces_output_port().Eval(pc)
+    world = plant.world_frame()
+    for side, system in built.friction.items():
+        prismatic = car.joint(f"strut_prismatic_{side}")
+        reaction = reactions[int(prismatic.index())]
+        X_WJc = prismatic.frame_on_child().CalcPoseInWorld(pc)
+        force_W = X_WJc.rotation().multiply(reaction.translational())
+        moment_W = X_WJc.rotation().multiply(reaction.rotational())
+
+        def point(name):
+            return plant.CalcPointsPositions(pc, plant.GetFrameByName(name, car.instance),
+                                             np.zeros(3), world).ravel()
+        guide, piston = point(f"guide_{side}"), point(f"piston_{side}")
+        overlap = np.linalg.norm(guide - piston)
+        axis = (guide - piston) / overlap
+        middle = (guide + piston) / 2
+        moment_mid = moment_W + np.cross(X_WJc.translation() - middle, force_W)
+        f_perp = force_W - force_W.dot(axis) * axis
+        m_perp = moment_mid - moment_mid.dot(axis) * axis
+        expected = np.linalg.norm(m_perp / overlap + f_perp)
+        diagnostics = system.GetOutputPort("diagnostics").Eval(system.GetMyContextFromRoot(root))
+        names = system.diagnostic_names()
+        assert expected > 100.0, f"{side}: the strut should carry a transverse load"
+        assert_allclose(diagnostics[names.index("translation_N")], expected, rtol=1e-9,
+                        err_msg=side)
+
+
+# -- bad input ------------------------------------------------------------------------------
+
+def test_missing_model_file(tmp_path):
+    with pytest.raises(ModelFileError, match="nowhere.sdf.*not found"):
+        load_car(MultibodyPlant(1e-3), ModelSource(path=tmp_path / "nowhere.sdf"))
+
+
+def test_malformed_model_file_names_file(tmp_path):
+    path = tmp_path / "broken.sdf"
+    path.write_text(generate_sdformat(CarParameters()).replace("</model>", "</mod>"))
+    with pytest.raises(ModelFileError, match="broken.sdf"):
+        load_car(MultibodyPlant(1e-3), ModelSource(path=path))
+
+
+def test_model_file_missing_a_part(tmp_path):
+    path = tmp_path / "no_rack.sdf"
+    text = generate_sdformat(CarParameters()).replace('frame name="top_mount_left"',
+                                                      'frame name="top_mount_l"')
+    path.write_text(text)
+    with pytest.raises(ModelFileError, match="no_rack.sdf.*top_mount_left"):
+        load_car(MultibodyPlant(1e-3), ModelSource(path=path))
+
+
+def test_model_file_whose_loop_cannot_close(tmp_path):
+    path = tmp_path / "open_loop.sdf"
+    params = CarParameters()
+    text = generate_sdformat(params)
+    # Move the chassis end of the left top mount 2 cm up: the rod cannot reach it.
+    start = text.index('<frame name="top_mount_left"')
+    start = text.index("<pose", start)
+    end = text.index("</pose>", start)
+    x, y, z, *rpy = text[text.index(">", start) + 1:end].split()
+    text = (text[:text.index(">", start) + 1]
+            + " ".join([x, y, str(float(z) + 0.02)] + rpy) + text[end:])
+    path.write_text(text)
+    with pytest.raises(ModelFileError, match="open_loop.sdf.*do not close"):
+        SuspensionKinematics(ModelSource(path=path), params.front.guide_length_l_m)
+
+
+def test_travel_out_of_reach():
+    with pytest.raises(KinematicsError, match="front left corner"):
+        run_kinematics_sweep(CarParameters(), travel_m=0.6, points=5)
+
+
+@pytest.mark.parametrize("group, name, value", [
+    ("mass", "total_mass_kg", 0.0),
+    ("mass", "front_wheel_kg", -1.0),
+    ("front", "wheel_rate_Npm", 0.0),
+    ("rear", "wheel_rate_Npm", -5.0),
+    ("front", "rod_radius_r_m", 0.0),
+    ("front", "guide_length_l_m", float("nan")),
+    ("front", "ball_joint_offset_b_m", 0.9),
+    ("tyre", "radial_stiffness_Npm", 0.0),
+])
+def test_parameter_out_of_range_names_it(group, name, value):
+    params = CarParameters()
+    setattr(getattr(params, group), name, value)
+    with pytest.raises(ParameterError, match=f"{group}.{name}"):
+        params.validate()
+    with pytest.raises(ParameterError, match=f"{group}.{name}"):
+        build_car_diagram(params)

@@ -1,0 +1,134 @@
+"""The FRD friction law (paper eqs. 1-6) as pure functions."""
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from drake_car.law.frd_friction import (
+    KINETIC, STATIC, FrictionParameterError, FrictionPairLaw, StrutFrictionParameters,
+    advance_creep, beta, friction_coefficient, friction_moment, mu1, mu_kinetic, normal_force)
+
+PAPER = FrictionPairLaw(mu_s=0.2, mu_d=0.15, dv=1e-4, dmax=5e-6)
+LAWS = [PAPER, FrictionPairLaw(0.4, 0.3, 1e-4, 5e-6, "linear", "linear"),
+        FrictionPairLaw(0.3, 0.3, 1e-3, 1e-5, "cubic", "linear")]
+# Round-off scale for evaluations of smooth polynomials of O(1) arguments.
+EPS = 1e-12
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_continuity_at_threshold_and_end_of_stribeck_band(law):
+    for creep in (-2 * law.dmax, -0.3 * law.dmax, 0.0, 0.7 * law.dmax, 3 * law.dmax):
+        for sign in (1, -1):
+            below = friction_coefficient(sign * law.dv * (1 - 1e-12), creep, law)[0]
+            above = friction_coefficient(sign * law.dv * (1 + 1e-12), creep, law)[0]
+            assert_allclose(below, above, atol=1e-9, err_msg=f"jump at |v| = dv, creep {creep}")
+            assert_allclose(above, -sign * law.mu_s, atol=1e-9)
+    for sign in (1, -1):
+        a = friction_coefficient(sign * 1.5 * law.dv * (1 - 1e-12), 0.0, law)[0]
+        b = friction_coefficient(sign * 1.5 * law.dv * (1 + 1e-12), 0.0, law)[0]
+        assert_allclose(a, b, atol=1e-9, err_msg="jump at |v| = 1.5 dv")
+        assert_allclose(b, -sign * law.mu_d, atol=1e-9)
+
+
+def test_cubic_midpoint_of_stribeck_band():
+    assert_allclose(mu_kinetic(1.25 * PAPER.dv, PAPER), (PAPER.mu_s + PAPER.mu_d) / 2, atol=EPS)
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_odd_symmetry(law):
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        v = rng.uniform(-3, 3) * law.dv
+        creep = rng.uniform(-2, 2) * law.dmax
+        mu, b, m1, phase = friction_coefficient(v, creep, law)
+        mu_m, b_m, m1_m, phase_m = friction_coefficient(-v, -creep, law)
+        assert_allclose(mu_m, -mu, atol=EPS, err_msg=f"v {v}, creep {creep}")
+        assert (b, m1, phase) == (b_m, m1_m, phase_m)
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_limits(law):
+    assert friction_coefficient(0.0, 0.0, law)[0] == 0.0
+    # At rest with creep at or beyond dmax: full static friction opposing the creep.
+    assert_allclose(friction_coefficient(0.0, law.dmax, law)[0], -law.mu_s, atol=EPS)
+    assert_allclose(friction_coefficient(0.0, -5 * law.dmax, law)[0], law.mu_s, atol=EPS)
+    # Sliding fast: dynamic friction opposing the velocity, beta = 1, mu1 = 0.
+    assert friction_coefficient(10 * law.dv, law.dmax, law) == (-law.mu_d, 1.0, 0.0, KINETIC)
+    assert beta(0.0, law) == 0.0 and beta(law.dv, law) == 1.0
+    assert mu1(0.0, law) == 0.0 and mu1(law.dmax, law) == law.mu_s
+    # The static-phase coefficient never exceeds mu_s in magnitude.
+    for v in np.linspace(-law.dv, law.dv, 41):
+        for creep in np.linspace(-2 * law.dmax, 2 * law.dmax, 41):
+            assert abs(friction_coefficient(v, creep, law)[0]) <= law.mu_s + EPS
+
+
+def test_shapes():
+    cubic, linear = PAPER, FrictionPairLaw(0.2, 0.15, 1e-4, 5e-6, "linear", "linear")
+    assert_allclose(beta(0.5e-4, cubic), 0.5, atol=EPS)  # STEP midpoint
+    assert_allclose(beta(0.25e-4, cubic), 0.25 ** 2 * (3 - 0.5), atol=EPS)
+    assert_allclose(beta(0.25e-4, linear), 0.25, atol=EPS)
+    assert_allclose(mu1(1.25e-6, linear), 0.05, atol=EPS)
+
+
+def test_lubricated_case_is_frictionless():
+    law = FrictionPairLaw(0.0, 0.0)
+    assert law.lubricated
+    for v in (-1.0, -1e-4, 0.0, 5e-5, 1.0):
+        assert friction_coefficient(v, 3e-6, law)[0] == 0.0
+
+
+def test_creep_phase_logic():
+    law = PAPER
+    # Static: accumulates, bounded at +-dmax.
+    assert advance_creep(1e-6, STATIC, 0.0, 2e-6, law) == (3e-6, STATIC)
+    assert advance_creep(4e-6, STATIC, 0.0, 3e-6, law) == (law.dmax, STATIC)
+    # Static -> kinetic above dv: creep (so mu1) resets to zero.
+    assert advance_creep(4e-6, STATIC, 2e-4, 1e-6, law) == (0.0, KINETIC)
+    # Kinetic -> static below dv: creep starts again from zero.
+    assert advance_creep(0.0, KINETIC, 5e-5, 1e-6, law) == (0.0, STATIC)
+
+
+def test_normal_force_forms_and_moment():
+    f = np.array([300.0, 0.0, 0.0])
+    m = np.array([0.0, 30.0, 0.0])
+    d = 0.1
+    assert_allclose(normal_force(f, m, d, 0.0, 0.2), math.hypot(300.0, 300.0), rtol=EPS)
+    assert_allclose(normal_force(f, m, d, 0.0, 0.2, "magnitude_sum"), 600.0, rtol=EPS)
+    assert_allclose(normal_force(f, -m, d, 50.0, 0.2), math.hypot(300, 300) + 250.0, rtol=EPS)
+    assert_allclose(friction_moment(-0.2, 1000.0, 0.011, 2.0, 0.2), -0.2 * (11.0 + 10.0),
+                    rtol=EPS)
+    with pytest.raises(FrictionParameterError, match="overlap"):
+        normal_force(f, m, 0.0, 0.0, 0.2)
+    with pytest.raises(FrictionParameterError, match="form"):
+        normal_force(f, m, d, 0.0, 0.2, "sum")
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(mu_s=0.1, mu_d=0.2), "mu_s"),
+    (dict(mu_s=0.2, mu_d=-0.1), "mu_d"),
+    (dict(mu_s=0.2, mu_d=0.1, dv=0.0), "dv"),
+    (dict(mu_s=0.2, mu_d=0.1, dmax=-1e-6), "dmax"),
+    (dict(mu_s=0.2, mu_d=0.1, beta_shape="sine"), "beta_shape"),
+    (dict(mu_s=0.2, mu_d=0.1, creep_shape="quad"), "creep_shape"),
+    (dict(mu_s=float("nan"), mu_d=0.1), "mu_s"),
+])
+def test_pair_parameter_errors(kwargs, match):
+    with pytest.raises(FrictionParameterError, match=match):
+        FrictionPairLaw(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(rod_radius_m=0.0), "rod_radius_m"),
+    (dict(preload_force_N=-1.0), "preload_force_N"),
+    (dict(preload_moment_Nm=-1.0), "preload_moment_Nm"),
+    (dict(mu_s=0.0, mu_d=0.0, preload_force_N=10.0), "preload_force_N"),
+    (dict(mu_s=0.0, mu_d=0.0, preload_moment_Nm=1.0), "preload_moment_Nm"),
+    (dict(normal_force_form="adams"), "normal_force_form"),
+    (dict(dv_rotation_radps=-1.0), "dv"),
+    (dict(dmax_translation_m=0.0), "dmax"),
+])
+def test_strut_parameter_errors(kwargs, match):
+    with pytest.raises(FrictionParameterError, match=match):
+        StrutFrictionParameters(**kwargs)
