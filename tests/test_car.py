@@ -23,6 +23,10 @@ from drake_car.systems.strut_friction import StrutFrictionSetup
 DMAX = StrutFrictionParameters().dmax_translation_m
 
 
+def system_law():
+    return StrutFrictionParameters()
+
+
 def test_committed_model_file_is_the_generators_output():
     assert DEFAULT_MODEL_PATH.read_text() == generate_sdformat(CarParameters()), (
         "urdf/car.sdf is stale: run python -m drake_car.model.sdformat")
@@ -40,11 +44,12 @@ def test_each_front_corner_has_one_degree_of_freedom():
         for travel in (-0.08, 0.0, 0.08):
             kin.solve("front", side, travel)
             jacobian = kin.closure_jacobian(side)
-            # 7 closure equations (top mount 3, tie rod 3, anti-spin 1) on 8 coordinates.
+            # 6 closure equations (ball joint 3, tie rod 3) on the corner's 7 coordinates
+            # (top mount 2, strut revolute 1, strut prismatic 1, lower arm 1, tie rod 2).
             singular = np.linalg.svd(jacobian, compute_uv=False)
-            assert jacobian.shape == (7, 8)
+            assert jacobian.shape == (6, 7)
             assert singular[-1] > 1e-3 * singular[0], f"{side} {travel}: loops degenerate"
-            assert 8 - np.linalg.matrix_rank(jacobian, tol=1e-6 * singular[0]) == 1
+            assert 7 - np.linalg.matrix_rank(jacobian, tol=1e-6 * singular[0]) == 1
 
 
 def test_loop_closure_over_travel_and_steering(sweep):
@@ -151,6 +156,9 @@ def test_normal_force_matches_reaction():
         assert expected > 100.0, f"{side}: the strut should carry a transverse load"
         assert_allclose(diagnostics[names.index("translation_N")], expected, rtol=1e-9,
                         err_msg=side)
+        # The settled car's rotation pair is stuck: static phase, |ω| within the threshold.
+        assert diagnostics[names.index("rotation_phase")] == 0.0, side
+        assert abs(diagnostics[names.index("rotation_v")]) <= system_law().dv_rotation_radps
 
 
 # -- bad input ------------------------------------------------------------------------------
@@ -180,8 +188,8 @@ def test_model_file_whose_loop_cannot_close(tmp_path):
     path = tmp_path / "open_loop.sdf"
     params = CarParameters()
     text = generate_sdformat(params)
-    # Move the chassis end of the left top mount 2 cm up: the rod cannot reach it.
-    start = text.index('<frame name="top_mount_left"')
+    # Move the arm's end of the left ball joint 2 cm up: the knuckle cannot reach it.
+    start = text.index('<frame name="ball_joint_arm_left"')
     start = text.index("<pose", start)
     end = text.index("</pose>", start)
     x, y, z, *rpy = text[text.index(">", start) + 1:end].split()

@@ -139,3 +139,23 @@ def test_fast_scheme_converges_to_reference():
     assert reference_change < 0.5 * errors[3e-5], (reference_change, errors)
     assert errors[1e-3] > errors[1e-4] > errors[3e-5], errors
     assert errors[1e-3] <= DISPLACEMENT_TARGET_M, errors
+
+
+@pytest.mark.parametrize("ratio", [0.8, 1.2])
+def test_rotation_pair_sticks_below_and_slides_above_mu_s(ratio):
+    """A torque of ratio·μs·N·r on a revolute joint (inertia 0.5 kg m², about a knuckle and
+    wheel about the strut axis): sticks within Δmax (rad) below 1, spins up at
+    (τ - μd N r)/I above."""
+    normal, radius, inertia = 3000.0, LAW.rod_radius_m, 0.5
+    torque = ratio * LAW.mu_s * normal * radius
+    options = RigOptions(mass_kg=inertia / 0.01, normal_force_N=normal, force_N=torque,
+                         rotational=True, time_step_s=1e-3, scheme="fast")
+    h = simulate_rig(options, LAW, duration_s=0.3, record_period_s=0.01)
+    if ratio < 1:
+        assert np.max(np.abs(h["x_m"])) <= LAW.dmax_rotation_rad
+        assert np.all(h["phase"] == 0.0)
+    else:
+        spinning = h["t"] >= 0.1
+        t, w = h["t"][spinning], h["v_mps"][spinning]
+        expected = (torque - LAW.mu_d * normal * radius) / inertia
+        assert_allclose((w[-1] - w[0]) / (t[-1] - t[0]), expected, rtol=1e-6)

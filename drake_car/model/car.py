@@ -1,4 +1,4 @@
-"""The car as a discrete (SAP) MultibodyPlant: model file + springs + rod anti-spin + steering servo.
+"""The car as a discrete (SAP) MultibodyPlant: model file + loop closures + springs + steering servo.
 
 Build order follows Drake's hardware_sim: ``add_car`` parses the model and adds the force
 elements and constraints that the file cannot express, *before* ``plant.Finalize()``.
@@ -10,15 +10,16 @@ from pathlib import Path
 import numpy as np
 from pydrake.multibody.tree import LinearSpringDamper, PdControllerGains
 
-from drake_car.model.geometry import ANTI_SPIN_LINK_M, SIDES
-from drake_car.model.kinematics import SuspensionKinematics
+from drake_car.model.geometry import SIDES
+from drake_car.model.kinematics import LOOP_CLOSURES, SuspensionKinematics
 from drake_car.model.loading import ModelSource, frame_point, load_car
 from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
 from drake_car.model.sdformat import generate_sdformat
 
-# Steering servo on the rack: SAP's implicit PD (stiff enough that the rack follows its command
-# within ~0.1 mm under kN tie-rod loads, critically damped for the rack's ~5 kg reflected mass).
-RACK_SERVO_GAINS = PdControllerGains(p=2.0e7, d=2.0e4)
+# Steering servo on the rack: SAP's implicit PD, standing for the steering column held by the
+# driver. 1e7 N/m keeps the rack within ~0.05 mm of its command under the ~500 N tie-rod loads
+# of a lane change; the damping makes it critically damped for the rack's ~5 kg reflected mass.
+RACK_SERVO_GAINS = PdControllerGains(p=1.0e7, d=1.4e4)
 
 
 @dataclasses.dataclass
@@ -110,14 +111,10 @@ def add_car(plant, params: CarParameters | None = None, *, model_path=None,
         plant.AddForceElement(LinearSpringDamper(
             body_a, p_a, body_b, p_b, setting.free_length_m, setting.stiffness_Npm, 0.0))
     for side in SIDES:
-        for name_a, name_b in ((f"top_mount_{side}", f"rod_top_{side}"),
-                               (f"tie_rod_outer_{side}", f"tie_rod_end_{side}")):
-            body_a, p_a = frame_point(plant, name_a, instance)
-            body_b, p_b = frame_point(plant, name_b, instance)
+        for name_a, name_b in LOOP_CLOSURES:
+            body_a, p_a = frame_point(plant, name_a.format(side=side), instance)
+            body_b, p_b = frame_point(plant, name_b.format(side=side), instance)
             plant.AddBallConstraint(body_a, p_a, body_b, p_b)
-        body_a, p_a = frame_point(plant, f"anti_spin_chassis_{side}", instance)
-        body_b, p_b = frame_point(plant, f"anti_spin_rod_{side}", instance)
-        plant.AddDistanceConstraint(body_a, p_a, body_b, p_b, ANTI_SPIN_LINK_M)
     rack = plant.GetJointByName("rack_slide", instance)
     rack_actuator = plant.AddJointActuator("rack_servo", rack)
     rack_actuator.set_controller_gains(RACK_SERVO_GAINS)
@@ -132,15 +129,16 @@ def strut_overlap(car: CarModel, context, side):
 
 
 def loop_closure_error(car: CarModel, plant_context):
-    """Largest distance (m) between the points the top-mount and tie-rod constraints join."""
+    """Largest distance (m) between the points the ball-joint and tie-rod constraints join."""
     plant, world = car.plant, car.plant.world_frame()
     worst = 0.0
     for side in SIDES:
-        for a, b in ((f"rod_top_{side}", f"top_mount_{side}"),
-                     (f"tie_rod_outer_{side}", f"tie_rod_end_{side}")):
-            pa = plant.CalcPointsPositions(plant_context, plant.GetFrameByName(a, car.instance),
-                                           np.zeros(3), world)
-            pb = plant.CalcPointsPositions(plant_context, plant.GetFrameByName(b, car.instance),
-                                           np.zeros(3), world)
+        for a, b in LOOP_CLOSURES:
+            pa = plant.CalcPointsPositions(
+                plant_context, plant.GetFrameByName(a.format(side=side), car.instance),
+                np.zeros(3), world)
+            pb = plant.CalcPointsPositions(
+                plant_context, plant.GetFrameByName(b.format(side=side), car.instance),
+                np.zeros(3), world)
             worst = max(worst, float(np.linalg.norm(pa - pb)))
     return worst

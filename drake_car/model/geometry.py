@@ -13,11 +13,6 @@ from drake_car.model.parameters import CarParameters
 
 SIDES = {"left": 1.0, "right": -1.0}
 
-# Arm of the anti-spin link at the top mount: the rod is held against spinning about its own
-# axis by the mount's elastomer; modelled as a rigid distance constraint this far off the axis.
-ANTI_SPIN_ARM_M = 0.05
-ANTI_SPIN_LINK_M = 0.10
-
 
 def _unit(v):
     v = np.asarray(v, dtype=float)
@@ -39,8 +34,7 @@ class FrontCornerPoints:
     spring_upper_seat: np.ndarray
     tie_rod_inner: np.ndarray
     tie_rod_outer: np.ndarray
-    anti_spin_rod: np.ndarray
-    anti_spin_chassis: np.ndarray
+    top_mount_axes: tuple  # the top mount's two tilt axes, both perpendicular to the strut
 
 
 @dataclasses.dataclass
@@ -75,8 +69,6 @@ def front_corner_points(params: CarParameters, side: float) -> FrontCornerPoints
                          + (f.spring_offset_m - (lower - upper)
                             * math.tan(math.radians(f.spring_inclination_deg))) * outward)
     forward = _unit(np.array([1.0, 0.0, 0.0]) - up[0] * up)
-    anti_spin_rod = top_mount + ANTI_SPIN_ARM_M * forward
-    anti_spin_chassis = anti_spin_rod + ANTI_SPIN_LINK_M * _unit(np.cross(up, forward))
 
     def mirror(p):
         return np.array([p[0], s * p[1], p[2]], dtype=float)
@@ -95,8 +87,7 @@ def front_corner_points(params: CarParameters, side: float) -> FrontCornerPoints
         spring_upper_seat=spring_upper_seat,
         tie_rod_inner=np.array([f.rack_x_m, s * f.rack_half_length_m, f.rack_height_m]),
         tie_rod_outer=mirror(f.tie_rod_outer_m),
-        anti_spin_rod=anti_spin_rod,
-        anti_spin_chassis=anti_spin_chassis,
+        top_mount_axes=(forward, _unit(np.cross(up, forward))),
     )
 
 

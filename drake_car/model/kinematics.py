@@ -1,6 +1,6 @@
 """Suspension kinematics with the chassis fixed: the rig Adams/Car users run first.
 
-Each corner's loop-closure equations (top mount ball, tie-rod ball, rod anti-spin link) plus one
+Each corner's loop-closure equations (lower ball joint, tie-rod ball joint) plus one
 prescribed wheel-centre travel are solved by Newton's method on that corner's joint coordinates,
 so the closure error is at round-off level, not at a simulator's constraint regularisation.
 """
@@ -11,7 +11,7 @@ import math
 import numpy as np
 from pydrake.multibody.plant import MultibodyPlant
 
-from drake_car.model.geometry import ANTI_SPIN_LINK_M, SIDES
+from drake_car.model.geometry import SIDES
 from drake_car.model.loading import ModelFileError, ModelSource, load_car
 
 
@@ -19,8 +19,11 @@ class KinematicsError(RuntimeError):
     """The loops of a corner cannot be closed (geometry out of reach)."""
 
 
-FRONT_JOINTS = ("lower_arm_pivot_{s}", "ball_joint_{s}", "strut_prismatic_{s}", "strut_revolute_{s}",
-                "tie_rod_inner_{s}")
+FRONT_JOINTS = ("lower_arm_pivot_{s}", "top_mount_joint_{s}", "strut_revolute_{s}",
+                "strut_prismatic_{s}", "tie_rod_inner_{s}")
+# Ball constraints that close each front corner's loops: (frame on one body, frame on the other).
+LOOP_CLOSURES = (("ball_joint_arm_{side}", "ball_joint_knuckle_{side}"),
+                 ("tie_rod_outer_{side}", "tie_rod_end_{side}"))
 
 
 @dataclasses.dataclass
@@ -65,8 +68,8 @@ class SuspensionKinematics:
             if error > 1e-6:
                 raise ModelFileError(
                     f"{source.path or source.label}: the {side} front corner's loops do not close "
-                    f"at the design position (error {error:.2e} m > 1e-6 m): the top-mount, "
-                    "tie-rod or anti-spin points of the rod and the chassis do not coincide")
+                    f"at the design position (error {error:.2e} m > 1e-6 m): the ball-joint or "
+                    "tie-rod points of the two bodies they join do not coincide")
         self._design_wheel_z = {
             (axle, side): self._point(f"wheel_{axle}_{side}")[2]
             for axle in ("front", "rear") for side in SIDES}
@@ -80,12 +83,10 @@ class SuspensionKinematics:
         self.plant.SetPositions(self.context, q)
 
     def closure_residual(self, side):
-        """The 7 loop-closure residuals of a front corner (m)."""
-        top = self._point(f"rod_top_{side}") - self._point(f"top_mount_{side}")
-        tie = self._point(f"tie_rod_outer_{side}") - self._point(f"tie_rod_end_{side}")
-        spin = (np.linalg.norm(self._point(f"anti_spin_rod_{side}")
-                               - self._point(f"anti_spin_chassis_{side}")) - ANTI_SPIN_LINK_M)
-        return np.concatenate([top, tie, [spin]])
+        """The 6 loop-closure residuals of a front corner (m)."""
+        return np.concatenate([
+            self._point(a.format(side=side)) - self._point(b.format(side=side))
+            for a, b in LOOP_CLOSURES])
 
     def _residual(self, axle, side, travel):
         z = self._point(f"wheel_{axle}_{side}")[2] - self._design_wheel_z[(axle, side)] - travel
@@ -147,12 +148,12 @@ class SuspensionKinematics:
         outboard = s * axis
         camber = -math.degrees(math.asin(np.clip(outboard[2], -1, 1)))
         steer = math.degrees(math.atan2(-axis[0], axis[1]))
-        ball = self._point(f"knuckle_{side}")
+        ball = self._point(f"ball_joint_knuckle_{side}")
         top = self._point(f"top_mount_{side}")
         caster = math.degrees(math.atan2(ball[0] - top[0], top[2] - ball[2]))
         kingpin = math.degrees(math.atan2(s * (ball[1] - top[1]), top[2] - ball[2]))
         strut_length = float(np.linalg.norm(
-            self._point(f"piston_rod_{side}") - self._point(f"strut_lower_mount_{side}")))
+            self._point(f"top_mount_{side}") - self._point(f"strut_lower_mount_{side}")))
         prismatic = plant.GetJointByName(f"strut_prismatic_{side}", self.instance)
         overlap = self.guide_length_l_m - prismatic.get_translation(ctx)
         return CornerState(side, travel_m, camber, -s * steer, steer, caster, kingpin,

@@ -15,8 +15,8 @@ REQUIRED_BODIES = ["chassis", "steering_rack"] + [
         "trailing_arm", "wheel_rear")]
 REQUIRED_FRAMES = [
     f"{name}_{side}" for side in SIDES for name in (
-        "top_mount", "rod_top", "spring_upper_seat", "spring_lower_seat", "anti_spin_chassis",
-        "anti_spin_rod", "strut_lower_mount", "piston", "guide", "rear_spring_upper_seat",
+        "top_mount", "ball_joint_arm", "ball_joint_knuckle", "spring_upper_seat",
+        "spring_lower_seat", "strut_lower_mount", "piston", "guide", "rear_spring_upper_seat",
         "rear_spring_lower_seat", "tie_rod_outer", "tie_rod_end")]
 
 

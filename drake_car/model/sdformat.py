@@ -4,15 +4,24 @@ The committed file ``urdf/car.sdf`` is this generator's output for the default p
 (``python -m drake_car.model.sdformat`` rewrites it; a test checks they agree). A scene that
 changes a parameter gets its own file generated the same way.
 
-Topology (per front side): chassis -(revolute)- lower arm -(ball)- knuckle (carries the strut
-cylinder) -(prismatic, strut axis)- strut slider -(revolute, strut axis)- piston rod; the rod's
-top closes the loop to the chassis at the top mount. The rack is a
+Topology (per front side): chassis -(revolute)- lower arm; chassis -(universal, top mount)-
+piston rod -(revolute, strut axis)- strut slider -(prismatic, strut axis)- knuckle (carries the
+strut cylinder); the knuckle closes the loop to the lower arm at the ball joint. The rack is a
 prismatic joint; each tie rod hangs on a universal joint at the rack end and closes the second
 loop at the steering arm. The rear is two trailing arms. The file declares the hard points as
-named frames (``top_mount_left`` on the chassis, ``rod_top_left`` on the rod, ...); the loop
-closures (ball constraints at the top mounts and the tie-rod ends, the rod's anti-spin link)
-and the springs are added in code (``drake_car.model.car``) between those frames, so the
-frames are the one statement of where the loops close.
+named frames (``ball_joint_arm_left`` on the arm, ``ball_joint_knuckle_left`` on the knuckle,
+...); the loop closures (ball constraints) and the springs are added in code
+(``drake_car.model.car``) between those frames, so the frames are the one statement of where
+the loops close.
+
+Why the loop closes at the ball joint and not at the top mount: SAP caps the impedance of a
+PD-controlled joint at about 4π²·I/dt², I the joint's own tree inertia (its child subtree).
+With the rod as the leaf of the cylindrical pair, the rotation pair's I is the rod's spin
+inertia (6e-5 kg m²): the cap (≈2e3 N m s/rad at 1 ms) is far below the friction law's
+slope μs·N·r/Δv (≈1e5 N m s/rad), and the strut friction's rotation pair chattered at
+±1e-3 rad/s on the settled car. With the knuckle and wheel as the child, I ≈ 0.5 kg m² about
+the strut axis and the cap is ≈2e7. The mechanism is the same: the rod does not spin against the
+body (universal top mount), the cylinder turns with the knuckle when steering.
 """
 
 import argparse
@@ -29,7 +38,7 @@ DEFAULT_MODEL_PATH = Path(__file__).resolve().parents[2] / "urdf" / "car.sdf"
 
 
 def _v(p):
-    return " ".join(f"{float(x):.9g}" for x in p)
+    return " ".join(f"{float(x):.15g}" for x in p)
 
 
 def _inertial(origin, mass, com, ixx, iyy, izz, rpy=(0.0, 0.0, 0.0)):
@@ -179,25 +188,29 @@ def generate_sdformat(params: CarParameters) -> str:
                            + _cylinder_between("tie_rod", tie_inner, tie_outer, 0.008,
                                                [0.5, 0.5, 0.5, 1])))
         arm_axis = p.arm_rear_pivot - p.arm_front_pivot
-        parts.append(_joint(f"lower_arm_pivot_{side_name}", "revolute", "chassis", arm, p.arm_front_pivot,
-                            axis=arm_axis / np.linalg.norm(arm_axis)))
-        parts.append(_joint(f"ball_joint_{side_name}", "ball", arm, knuckle, p.ball_joint))
-        parts.append(_joint(f"strut_prismatic_{side_name}", "prismatic", knuckle, slider,
-                            p.guide, axis=p.strut_axis_up, damping=f.strut_damping_Nspm))
-        parts.append(_joint(f"strut_revolute_{side_name}", "revolute", slider, rod, p.guide,
+        parts.append(_joint(f"lower_arm_pivot_{side_name}", "revolute", "chassis", arm,
+                            p.arm_front_pivot, axis=arm_axis / np.linalg.norm(arm_axis)))
+        # The strut hangs from the top mount: a universal joint (the mount tilts, the rod does
+        # not spin against the body), then the cylindrical pair with the cylinder (knuckle) as
+        # the child, so the pair's tree inertia is the knuckle's and the wheel's (see module doc).
+        parts.append(_joint(f"top_mount_joint_{side_name}", "universal", "chassis", rod, p.top_mount,
+                            axis=p.top_mount_axes[0], axis2=p.top_mount_axes[1]))
+        parts.append(_joint(f"strut_revolute_{side_name}", "revolute", rod, slider, p.guide,
                             axis=p.strut_axis_up))
-        parts.append(_joint(f"{wheel}_spin", "revolute", knuckle, wheel, p.wheel_centre, axis=[0, 1, 0]))
+        parts.append(_joint(f"strut_prismatic_{side_name}", "prismatic", slider, knuckle,
+                            p.guide, axis=-p.strut_axis_up, damping=f.strut_damping_Nspm))
+        parts.append(_joint(f"{wheel}_spin", "revolute", knuckle, wheel, p.wheel_centre,
+                            axis=[0, 1, 0]))
         tie_direction = (tie_outer - tie_inner) / tie_length
         second = np.cross(tie_direction, [1.0, 0.0, 0.0])
         parts.append(_joint(f"tie_rod_inner_{side_name}", "universal", "steering_rack", tie,
                             tie_inner, axis=[1, 0, 0], axis2=second / np.linalg.norm(second)))
         frames += [
             _frame(f"top_mount_{side_name}", "chassis", p.top_mount),
-            _frame(f"rod_top_{side_name}", rod, p.top_mount),
+            _frame(f"ball_joint_arm_{side_name}", arm, p.ball_joint),
+            _frame(f"ball_joint_knuckle_{side_name}", knuckle, p.ball_joint),
             _frame(f"spring_upper_seat_{side_name}", "chassis", p.spring_upper_seat),
             _frame(f"spring_lower_seat_{side_name}", knuckle, p.spring_lower_seat),
-            _frame(f"anti_spin_chassis_{side_name}", "chassis", p.anti_spin_chassis),
-            _frame(f"anti_spin_rod_{side_name}", rod, p.anti_spin_rod),
             _frame(f"strut_lower_mount_{side_name}", knuckle, p.strut_lower_mount),
             _frame(f"piston_{side_name}", rod, p.piston),
             _frame(f"guide_{side_name}", knuckle, p.guide),

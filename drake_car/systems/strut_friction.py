@@ -306,9 +306,11 @@ class StrutFrictionSetup:
                              self.scheme, prefix=f"strut_friction_{side}")
 
     def make_system(self, plant, pairs, side, *, guide_length_l_m):
+        # The prismatic joint's child is the cylinder, Jc at the guide; q is the extension s.
+        # Overlap d = l - s; the overlap's middle lies d/2 beyond Jc along the joint axis.
         return StrutFriction(plant, pairs, self.params, scheme=self.scheme,
                              overlap_m=(guide_length_l_m, -1.0),
-                             moment_arm_offset_m=(0.5 * guide_length_l_m, 0.5),
+                             moment_arm_offset_m=(-0.5 * guide_length_l_m, 0.5),
                              name=f"strut_friction_{side}")
 
 
