@@ -1,0 +1,92 @@
+"""Smoke tests of the experiment scripts: short runs, their files, their columns, bad options."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from drake_car.outputs import output_folder, read_csv
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(script, *args, check=True):
+    result = subprocess.run([sys.executable, str(ROOT / "experiments" / script), *map(str, args)],
+                            capture_output=True, text=True, timeout=600)
+    if check:
+        assert result.returncode == 0, result.stderr[-3000:]
+    return result
+
+
+def test_settle_script(tmp_path):
+    out = tmp_path / "settle"
+    run("settle.py", "--out", out, "--duration_s", 0.3)
+    data = json.loads((out / "settle.json").read_text())
+    for key, members in (("corner_loads_N", {"fl", "fr", "rl", "rr"}),
+                         ("ride_height_m", {"front", "rear"}),
+                         ("strut_overlap_m", {"left", "right"}),
+                         ("design_axle_loads_N", {"front", "rear"})):
+        assert set(data[key]) == members, key
+        assert all(np.isfinite(v) for v in data[key].values()), key
+    assert data["total_mass_kg"] > 0
+    assert (out / "settle.png").stat().st_size > 0
+
+
+def test_kinematics_script(tmp_path):
+    out = tmp_path / "kin"
+    run("suspension_kinematics.py", "--out", out, "--points", 5)
+    table = read_csv(out / "kinematics.csv")
+    assert list(table)[:8] == ["side", "wheel_travel_m", "camber_deg", "toe_deg", "caster_deg",
+                               "kingpin_deg", "strut_length_m", "overlap_m"]
+    steering = read_csv(out / "steering.csv")
+    assert list(steering)[:3] == ["rack_m", "steer_left_deg", "steer_right_deg"]
+    assert (out / "kinematics.png").exists() and (out / "steering.png").exists()
+
+
+def test_friction_rig_script(tmp_path):
+    out = tmp_path / "rig"
+    run("friction_rig.py", "--out", out, "--duration_s", 0.05, "--force_N", 100)
+    h = read_csv(out / "history.csv")
+    assert list(h) == ["t", "x_m", "v_mps", "creep_m", "mu", "phase", "friction_N"]
+    assert all(np.all(np.isfinite(v)) for v in h.values())
+    assert (out / "history.png").exists()
+
+
+@pytest.mark.parametrize("args, option", [
+    (["--mu_s", "0.1", "--mu_d", "0.2"], "mu_s"),
+    (["--time_step_s", "-1"], "time_step_s"),
+    (["--shape", "quadratic"], "shape"),
+    (["--mass_kg", "abc"], "mass_kg"),
+])
+def test_friction_rig_bad_options_name_the_option(tmp_path, args, option):
+    out = tmp_path / "rig"
+    result = run("friction_rig.py", "--out", out, *args, check=False)
+    assert result.returncode == 2
+    assert option in result.stderr
+    assert not out.exists(), "nothing may be written on bad input"
+
+
+def test_main_study_writes_report_and_pictures(tmp_path):
+    out = tmp_path / "study"
+    run("study.py", "--out", out, "--settle_s", 0.3, "--html_s", 0.05)
+    for name in ("report.md", "diagram.svg", "car.html", "phase_I.csv", "phase_I.png",
+                 "settle/settle.json", "kinematics/kinematics.csv"):
+        assert (out / name).stat().st_size > 0, name
+    assert "<svg" in (out / "diagram.svg").read_text()[:2000]
+    assert "strut_friction_left" in (out / "diagram.svg").read_text()
+    assert "<html" in (out / "car.html").read_text()[:5000].lower()
+    phase = read_csv(out / "phase_I.csv")
+    assert all(np.all(np.isfinite(v)) for v in phase.values())
+
+
+def test_output_folder_is_all_or_nothing(tmp_path):
+    target = tmp_path / "out"
+    with pytest.raises(RuntimeError):
+        with output_folder(target) as staging:
+            (staging / "half.csv").write_text("t\n0\n")
+            raise RuntimeError("simulation failed")
+    assert not target.exists()
+    assert not list(tmp_path.iterdir()), "the staging folder must be removed"
