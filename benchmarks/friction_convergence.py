@@ -1,0 +1,65 @@
+"""The friction schemes against a converged reference on the one-DOF rig: error vs step and
+wall time (a work-precision table). Case: 30 kg block, N = 500 N, spring 2e4 N/m, a 150 N 2 Hz
+sinusoidal load (stick-slip), 0.5 s.
+
+  python benchmarks/friction_convergence.py [--out results/convergence]
+"""
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np  # noqa: E402
+
+from drake_car.law.frd_friction import StrutFrictionParameters, shape_max_slope  # noqa: E402
+from drake_car.outputs import output_folder, provenance, write_csv, write_json  # noqa: E402
+from drake_car.rig import RigOptions, simulate_rig  # noqa: E402
+
+LAW = StrutFrictionParameters(mu_s=0.2, mu_d=0.15)
+CASE = dict(mass_kg=30.0, normal_force_N=500.0, spring_Npm=2.0e4, force_amp_N=150.0,
+            force_freq_hz=2.0)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", type=Path, default=None)
+    p.add_argument("--duration_s", type=float, default=0.5)
+    args = p.parse_args()
+    c = shape_max_slope(LAW.beta_shape) * LAW.mu_s * CASE["normal_force_N"] / LAW.dv_translation_mps
+    explicit_limit = 2 * CASE["mass_kg"] / c
+    ref_dt = explicit_limit / 8
+    start = time.perf_counter()
+    reference = simulate_rig(RigOptions(time_step_s=ref_dt, scheme="reference", **CASE), LAW,
+                             duration_s=args.duration_s, record_period_s=1e-3)
+    print(f"reference: explicit at dt = {ref_dt:.2e} s (stability limit {explicit_limit:.2e} s),"
+          f" {time.perf_counter() - start:.1f} s wall")
+    rows = {"scheme": [], "time_step_s": [], "max_abs_x_error_m": [], "final_x_error_m": [],
+            "wall_s": []}
+    runs = [("reference", explicit_limit / 2), ("reference", explicit_limit / 4),
+            ("reference", 2 * explicit_limit)]
+    runs += [("fast", dt) for dt in (5e-3, 2e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5)]
+    for scheme, dt in runs:
+        t0 = time.perf_counter()
+        h = simulate_rig(RigOptions(time_step_s=dt, scheme=scheme, **CASE), LAW,
+                         duration_s=args.duration_s, record_period_s=1e-3)
+        wall = time.perf_counter() - t0
+        error = np.abs(h["x_m"] - reference["x_m"])
+        for key, value in (("scheme", scheme), ("time_step_s", dt),
+                           ("max_abs_x_error_m", float(np.max(error))),
+                           ("final_x_error_m", float(error[-1])), ("wall_s", wall)):
+            rows[key].append(value)
+        print(f"{scheme:9s} dt = {dt:8.2e} s  max |x - x_ref| = {np.max(error):9.3e} m  "
+              f"wall {wall:6.2f} s")
+    if args.out:
+        with output_folder(args.out) as out:
+            write_csv(out / "friction_convergence.csv", rows)
+            write_json(out / "friction_convergence.json",
+                       provenance(reference_time_step_s=ref_dt, case=CASE))
+
+
+if __name__ == "__main__":
+    main()
