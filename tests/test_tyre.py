@@ -1,0 +1,65 @@
+"""The tyre system's vertical part, alone and on the car's plant."""
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.math import SpatialVelocity
+from pydrake.multibody.plant import MultibodyPlant
+
+from drake_car.law.tyre_contact import RadialTyre, contact_point, flat_road, radial_force
+from drake_car.model.car import add_car
+from drake_car.systems.tyre import WHEELS, TyreSystem
+
+TYRE = RadialTyre(unloaded_radius_m=0.3, radial_stiffness_Npm=2.0e5, radial_damping_Nspm=300.0)
+
+
+def test_contact_point_of_a_cambered_wheel():
+    # Spin axis tilted by 5 deg about x: the lowest point of the circle is R below the centre
+    # along the in-plane downward direction, i.e. R cos(5 deg) below it.
+    tilt = np.radians(5.0)
+    axis = np.array([0.0, np.cos(tilt), np.sin(tilt)])
+    point, deflection, _ = contact_point(np.array([1.0, 2.0, 0.29]), axis, 0.3, flat_road)
+    assert_allclose(deflection, 0.3 * np.cos(tilt) - 0.29, rtol=1e-12)
+    assert_allclose(point[2], 0.0)
+
+
+def test_radial_force_never_pulls():
+    assert radial_force(TYRE, 0.0, -1.0) == 0.0
+    assert_allclose(radial_force(TYRE, 0.01, 0.0), 2000.0)
+    assert radial_force(TYRE, 0.001, -10.0) == 0.0  # damper would pull: clipped
+    with pytest.raises(ValueError, match="radial_stiffness_Npm"):
+        RadialTyre(0.3, 0.0, 1.0)
+
+
+def test_tyre_system_alone():
+    plant = MultibodyPlant(time_step=1e-3)
+    car = add_car(plant)
+    plant.Finalize()
+    tyres = TyreSystem(car.wheel_bodies(), TYRE)
+    assert [tyres.get_input_port(i).get_name() for i in range(2)] == [
+        "body_poses", "body_spatial_velocities"]
+    assert [tyres.get_output_port(i).get_name() for i in range(2)] == [
+        "tyre_forces", "tyre_loads"]
+    context = tyres.CreateDefaultContext()
+    poses = [RigidTransform() for _ in range(plant.num_bodies())]
+    velocities = [SpatialVelocity.Zero() for _ in range(plant.num_bodies())]
+    bodies = car.wheel_bodies()
+    for i, w in enumerate(WHEELS):  # wheel centres 1, 2, 3, 4 cm into the road, upright
+        poses[int(bodies[w].index())] = RigidTransform(
+            RollPitchYaw(0, 0.3 * i, 0), [i, 0.7, 0.3 - 0.01 * (i + 1)])
+    velocities[int(bodies["fl"].index())] = SpatialVelocity(np.zeros(3), [0, 0, -0.1])
+    tyres.GetInputPort("body_poses").FixValue(context, poses)
+    tyres.GetInputPort("body_spatial_velocities").FixValue(context, velocities)
+    loads = tyres.GetOutputPort("tyre_loads").Eval(context)
+    expected = [2.0e5 * 0.01 * (i + 1) for i in range(4)]
+    expected[0] += 300.0 * 0.1  # compressing at 0.1 m/s
+    assert_allclose(loads[:4], expected, rtol=1e-9)
+    assert_allclose(loads[4:], [0.01, 0.02, 0.03, 0.04], rtol=1e-9)
+    forces = tyres.GetOutputPort("tyre_forces").Eval(context)
+    assert len(forces) == 4
+    for i, (force, w, fz) in enumerate(zip(forces, WHEELS, expected)):
+        assert force.body_index == bodies[w].index()
+        assert_allclose(force.F_Bq_W.translational(), [0, 0, fz], rtol=1e-9)
+        # Applied at the contact point on the road: R - deflection below the centre.
+        assert_allclose(np.linalg.norm(force.p_BoBq_B), 0.3 - 0.01 * (i + 1), rtol=1e-9)
