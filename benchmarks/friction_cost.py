@@ -22,6 +22,7 @@ from drake_car.systems.strut_friction import StrutFrictionSetup  # noqa: E402
 
 CASES = {
     "friction off (lubricated)": None,
+    "friction off, undamped": "undamped",
     "friction on, translation pair": StrutFrictionSetup(
         StrutFrictionParameters(mu_s=0.4, mu_d=0.3), rotation=False),
     "friction on, both pairs": StrutFrictionSetup(StrutFrictionParameters(mu_s=0.4, mu_d=0.3)),
@@ -32,6 +33,8 @@ def wall_per_simulated_second(friction, sim_s, time_step_s):
     params = CarParameters()
     if friction is not None:
         params.front.strut_damping_Nspm = 0.0
+    if friction == "undamped":
+        friction = None
     built = build_car_diagram(params, friction=friction, time_step_s=time_step_s)
     simulator = Simulator(built.diagram)
     simulator.Initialize()

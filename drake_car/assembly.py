@@ -54,6 +54,7 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     car = add_car(plant, params, model_path=model_path, fixed_chassis=fixed_chassis)
     friction_declarations = {}
     if friction is not None:
+        friction.check_time_step(time_step_s)
         for side in SIDES:
             friction_declarations[side] = friction.declare(plant, car.strut_joints(side), side)
     plant.Finalize()

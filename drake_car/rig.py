@@ -41,6 +41,10 @@ class RigOptions:
     time_step_s: float = 1e-3
     scheme: str = "fast"
     friction: bool = True
+    # Take N from the joint's reaction (eq. 4) instead of normal_force_N; for the first step,
+    # before the plant has reported a reaction, use initial_normal_force_N if given.
+    normal_from_reaction: bool = False
+    initial_normal_force_N: float | None = None
 
     def validate(self):
         checks = [("mass_kg", self.mass_kg > 0), ("normal_force_N", self.normal_force_N >= 0),
@@ -157,7 +161,9 @@ def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None
     if options.friction:
         friction = builder.AddSystem(StrutFriction(
             plant, pairs, params, scheme=options.scheme,
-            constant_normal_force_N=options.normal_force_N, name="rig_friction"))
+            constant_normal_force_N=(None if options.normal_from_reaction
+                                     else options.normal_force_N),
+            initial_normal_force_N=options.initial_normal_force_N, name="rig_friction"))
         friction.set_name("rig_friction")
         friction.connect(builder, plant)
         builder.Connect(friction.actuation_output_port(),

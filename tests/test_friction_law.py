@@ -82,12 +82,23 @@ def test_lubricated_case_is_frictionless():
 def test_creep_phase_logic():
     law = PAPER
     # Static: accumulates, bounded at +-dmax.
-    assert advance_creep(1e-6, STATIC, 0.0, 2e-6, law) == (3e-6, STATIC)
+    assert advance_creep(1e-6, STATIC, 0.0, 2e-6, law) == (pytest.approx(3e-6, rel=1e-12), STATIC)
     assert advance_creep(4e-6, STATIC, 0.0, 3e-6, law) == (law.dmax, STATIC)
     # Static -> kinetic above dv: creep (so mu1) resets to zero.
     assert advance_creep(4e-6, STATIC, 2e-4, 1e-6, law) == (0.0, KINETIC)
     # Kinetic -> static below dv: creep starts again from zero.
     assert advance_creep(0.0, KINETIC, 5e-5, 1e-6, law) == (0.0, STATIC)
+
+
+def test_contact_pair_normal_force():
+    """F and M carried by two contact forces at guide and piston, d apart along û."""
+    axis = np.array([0.0, 0.0, 1.0])
+    f1, f2 = np.array([400.0, 0.0, 0.0]), np.array([-100.0, 0.0, 0.0])  # at +d/2, -d/2
+    d = 0.1
+    force = f1 + f2
+    moment = np.cross(d / 2 * axis, f1) + np.cross(-d / 2 * axis, f2)
+    assert_allclose(normal_force(force, moment, d, 0.0, 0.2, "contact_pair", axis=axis),
+                    np.linalg.norm(f1) + np.linalg.norm(f2), rtol=1e-12)
 
 
 def test_normal_force_forms_and_moment():

@@ -15,6 +15,8 @@ Kinetic phase, |v| > Δv:  μ = -μk(|v|) sgn(v)                                
 Normal force from the joint's transverse reaction force F and bending moment M:
     N = |M/d + F| + F0/μs       (paper's vector form, default)                            (4)
     N = |F| + |M|/d + F0/μs     (ADAMS documentation's magnitude sum, option)
+    N = |F1| + |F2| + F0/μs     (option: the two contact forces at guide and piston that carry
+                                 F and M, F1,2 = (F ∓ (2/d) û×M)/2; needs the axis û)
 Friction force and moment:  F_fric = μ N  (5),   M_fric = μ_rot (N r + M0/μs)  (6).
 
 Phases: static -> kinetic when |v| > Δv, and then the creep (so μ1) resets to 0; kinetic ->
@@ -32,7 +34,7 @@ STATIC = 0.0
 KINETIC = 1.0
 
 SHAPES = ("cubic", "linear")
-NORMAL_FORCE_FORMS = ("vector", "magnitude_sum")
+NORMAL_FORCE_FORMS = ("vector", "magnitude_sum", "contact_pair")
 
 
 class FrictionParameterError(ValueError):
@@ -136,19 +138,31 @@ def advance_creep(creep, phase, velocity, displacement, law: FrictionPairLaw):
     return min(max(creep + displacement, -law.dmax), law.dmax), STATIC
 
 
-def normal_force(f_transverse, m_transverse, overlap, preload_force, mu_s, form="vector"):
-    """Eq. (4). ``f_transverse`` and ``m_transverse`` are 3-vectors (or 2-vectors) of the joint's
-    reaction force and bending moment perpendicular to the joint axis, the moment taken about the
-    middle of the overlap; ``overlap`` is d > 0 (m). Returns N ≥ 0 (N)."""
+def normal_force(f_transverse, m_transverse, overlap, preload_force, mu_s, form="vector",
+                 axis=None):
+    """Eq. (4). ``f_transverse`` and ``m_transverse`` are 3-vectors of the joint's reaction force
+    and bending moment perpendicular to the joint axis, the moment taken about the middle of the
+    overlap; ``overlap`` is d > 0 (m); ``axis`` the unit joint axis (for "contact_pair").
+    Returns N ≥ 0 (N)."""
     if not overlap > 0:
         raise FrictionParameterError(f"overlap d = {overlap} must be > 0")
     preload = preload_force / mu_s if preload_force > 0 else 0.0
+    fx, fy, fz = f_transverse
+    mx, my, mz = m_transverse
     if form == "vector":
-        total = [m / overlap + f for m, f in zip(m_transverse, f_transverse)]
-        return math.sqrt(sum(x * x for x in total)) + preload
+        return math.sqrt((mx / overlap + fx) ** 2 + (my / overlap + fy) ** 2
+                         + (mz / overlap + fz) ** 2) + preload
     if form == "magnitude_sum":
-        return (math.sqrt(sum(x * x for x in f_transverse))
-                + math.sqrt(sum(x * x for x in m_transverse)) / overlap + preload)
+        return (math.sqrt(fx * fx + fy * fy + fz * fz)
+                + math.sqrt(mx * mx + my * my + mz * mz) / overlap + preload)
+    if form == "contact_pair":
+        if axis is None:
+            raise FrictionParameterError("normal-force form 'contact_pair' needs the joint axis")
+        ux, uy, uz = axis
+        k = 2.0 / overlap  # (2/d) û × M
+        cx, cy, cz = k * (uy * mz - uz * my), k * (uz * mx - ux * mz), k * (ux * my - uy * mx)
+        return 0.5 * (math.sqrt((fx - cx) ** 2 + (fy - cy) ** 2 + (fz - cz) ** 2)
+                      + math.sqrt((fx + cx) ** 2 + (fy + cy) ** 2 + (fz + cz) ** 2)) + preload
     raise FrictionParameterError(f"normal-force form {form!r} must be one of {NORMAL_FORCE_FORMS}")
 
 

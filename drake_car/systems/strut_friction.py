@@ -23,9 +23,11 @@ Two numerical schemes (``scheme``):
     and the system chooses, per step,
 
     * static phase (|v_k| ≤ Δv): u_ff = μ(v_k, Δ_k)·N, q_d = q_k, v_d = v_k,
-      Kp = s'_Δ·μs·N/Δmax, Kd = s'_β·μs·N/Δv (s' = the shape's largest slope: 1.5 for the
-      cubic STEP, 1 for linear), e = μs·N (the law never exceeds μs·N);
-    * kinetic phase (|v_k| > Δv): u_ff = 0, v_d = 0, Kp = 0, Kd as above, e = μk(|v_k|)·N.
+      Kp = s'_Δ·μs·N/Δmax, Kd = s'_β·(μs + μ1(Δ_k))·N/Δv (s' = the shape's largest slope:
+      1.5 for the cubic STEP, 1 for linear; μs + μ1 because where v opposes the creep both
+      terms of eq. 1 change with β), e = μs·N (the law never exceeds μs·N);
+    * kinetic phase (|v_k| > Δv): u_ff = 0, v_d = 0, Kp = 0, Kd = s'_β·μs·N/Δv,
+      e = μk(|v_k|)·N.
       The saturated damper gives exactly -μk·N·sgn(v_{k+1}) while |v_{k+1}| stays above
       e/Kd (≤ Δv), and catches a velocity reversal inside the step instead of overshooting it.
 
@@ -34,9 +36,19 @@ Two numerical schemes (``scheme``):
     converges to the law as dt → 0 (the friction rig's tests and benchmarks record the error
     against the reference at several steps). Where it departs from the law at finite dt: the
     static-phase force follows the law's tangent plane with the over-estimated slopes for one
-    step (so a stick transient is more damped than the law within a step); μk in the Stribeck
-    band Δv < |v| < 1.5Δv and the normal force N are lagged one step (N is lagged in both
-    schemes: the reactions are the plant's sampled output).
+    step: where the law's slope is below its bound (|v| near 0 or Δv on the cubic STEP, creep at
+    Δmax) the term Kd·(v_{k+1} - v_k) acts as an added inertia Kd·dt, so the velocity inside the
+    static band relaxes over several steps instead of at once. Measured consequence at 1 ms on
+    the rig (30 kg, N = 3 kN): a load of 0.95·μs·N creeps the block 5.1 µm (law: 4.6 µm) and
+    0.999·μs·N 10 µm (law: 4.9 µm) before it stops; both vanish as dt shrinks. μk in the
+    Stribeck band Δv < |v| < 1.5Δv and the normal force N are lagged one step (N is lagged in
+    both schemes: the reactions are the plant's sampled output).
+
+    Event order within a step (Drake 1.51): the plant's SAP step is an unrestricted update and
+    runs first; this system's discrete update then sees the new plant state x_{k+1} and stores
+    the creep memory for it; the per-step publish and, at the next step, the plant read this
+    system's outputs, computed from that memory and x_{k+1} (``advance_creep`` with zero
+    displacement returns the memory unchanged, so the outputs, the gains and the memory agree).
 
     Drake keeps PD gains and effort limits in the *model*, not in the context. This system owns
     them for its actuators: a per-step publish event (and an initialization event) writes the
@@ -103,7 +115,8 @@ class StrutFriction(LeafSystem):
 
     def __init__(self, plant, pairs, params: StrutFrictionParameters, *, scheme="fast",
                  normal_force_joint=None, overlap_m=(0.1, 0.0), moment_arm_offset_m=(0.0, 0.0),
-                 constant_normal_force_N=None, name="strut_friction"):
+                 constant_normal_force_N=None, initial_normal_force_N=None,
+                 name="strut_friction"):
         super().__init__()
         if scheme not in SCHEMES:
             raise ValueError(f"{name}: scheme {scheme!r} must be one of {SCHEMES}")
@@ -129,6 +142,10 @@ class StrutFriction(LeafSystem):
         self._overlap = tuple(float(x) for x in overlap_m)
         self._moment_offset = tuple(float(x) for x in moment_arm_offset_m)
         self._constant_normal = constant_normal_force_N
+        # Drake's sampled reaction port reads zero before the first step; a run that starts
+        # from a loaded, stuck state gives the normal force for that first step here.
+        self._initial_normal = (None if initial_normal_force_N is None
+                                else float(initial_normal_force_N))
         if constant_normal_force_N is None:
             joint = normal_force_joint or self._pairs[0].joint
             self._normal_joint_index = int(joint.index())
@@ -204,6 +221,8 @@ class StrutFriction(LeafSystem):
     def _normal_force(self, context, x):
         if self._constant_normal is not None:
             return float(self._constant_normal)
+        if self._initial_normal is not None and context.get_time() <= 0.0:
+            return self._initial_normal
         q = x[self._normal_q_index]
         overlap = self._overlap[0] + self._overlap[1] * q
         if not overlap > 0:
@@ -215,11 +234,18 @@ class StrutFriction(LeafSystem):
         moment = reaction.rotational()
         u = self._axis
         offset = self._moment_offset[0] + self._moment_offset[1] * q
-        moment = moment + offset * np.cross(u, force)
-        f_perp = force - force.dot(u) * u
-        m_perp = moment - moment.dot(u) * u
-        return normal_force(f_perp, m_perp, overlap, self._params.preload_force_N,
-                            self._params.mu_s, self._params.normal_force_form)
+        ux, uy, uz = u
+        fx, fy, fz = force
+        mx = moment[0] + offset * (uy * fz - uz * fy)
+        my = moment[1] + offset * (uz * fx - ux * fz)
+        mz = moment[2] + offset * (ux * fy - uy * fx)
+        f_axial = fx * ux + fy * uy + fz * uz
+        m_axial = mx * ux + my * uy + mz * uz
+        return normal_force(
+            (fx - f_axial * ux, fy - f_axial * uy, fz - f_axial * uz),
+            (mx - m_axial * ux, my - m_axial * uy, mz - m_axial * uz),
+            overlap, self._params.preload_force_N, self._params.mu_s,
+            self._params.normal_force_form, axis=(ux, uy, uz))
 
     def _calc_step(self, context, abstract_value):
         x = self._state_port.Eval(context)
@@ -241,7 +267,9 @@ class StrutFriction(LeafSystem):
             force = mu * scale
             gains = None
             if self._scheme == "fast":
-                kd = max(shape_max_slope(law.beta_shape) * law.mu_s * scale / law.dv, _MIN_GAIN)
+                # |∂F/∂v| ≤ s'_β (μs + μ1) N / Δv in the static phase (v opposing the creep).
+                kd = max(shape_max_slope(law.beta_shape) * (law.mu_s + mu1) * scale / law.dv,
+                         _MIN_GAIN)
                 if phase == STATIC:
                     kp = shape_max_slope(law.creep_shape) * law.mu_s * scale / law.dmax
                     gains = (kp, kd, law.mu_s * scale, q, v, force)
@@ -259,9 +287,16 @@ class StrutFriction(LeafSystem):
         discrete_state.set_value(self._state_index, values)
 
     def _update(self, context, discrete_state):
+        # Only the creep memory; the forces are computed once per step, by the outputs.
+        x = self._state_port.Eval(context)
+        memory = context.get_discrete_state(self._state_index).get_value()
         values = np.empty(3 * len(self._pairs))
-        for i, r in enumerate(self._step.Eval(context)):
-            values[3 * i:3 * i + 3] = (r[2], r[3], r[0])
+        for i, law in enumerate(self._laws):
+            q = float(x[self._q_index[i]])
+            creep, phase = advance_creep(float(memory[3 * i]), float(memory[3 * i + 1]),
+                                         float(x[self._v_index[i]]),
+                                         q - float(memory[3 * i + 2]), law)
+            values[3 * i:3 * i + 3] = (creep, phase, q)
         discrete_state.set_value(self._state_index, values)
 
     def _calc_actuation(self, context, output):
@@ -296,9 +331,20 @@ class StrutFrictionSetup:
     scheme: str = "fast"
     rotation: bool = True
 
+    # The explicit reference scheme is stable on the car only below ~1e-5 s (rod mass ~30 kg
+    # through the strut, N up to ~5 kN): refuse steps far above that instead of chattering.
+    reference_max_time_step_s: float = 2e-5
+
     def __post_init__(self):
         if self.scheme not in SCHEMES:
             raise ValueError(f"friction scheme {self.scheme!r} must be one of {SCHEMES}")
+
+    def check_time_step(self, time_step_s):
+        if self.scheme == "reference" and time_step_s > self.reference_max_time_step_s:
+            raise ValueError(
+                f"friction scheme 'reference' applies the law explicitly and is unstable on the "
+                f"car at time_step_s = {time_step_s:g} s; use <= "
+                f"{self.reference_max_time_step_s:g} s or the 'fast' scheme")
 
     def declare(self, plant, joints, side):
         """Adds the pairs' actuators (before Finalize). Returns the pairs."""

@@ -1,9 +1,5 @@
-"""Tyre forces on the four wheels as a LeafSystem.
-
-This is the vertical part (radial stiffness and damping at one contact point per wheel on the
-road surface). The Magic Formula's horizontal forces are added in this same system by a later
-issue; until then the horizontal contact forces are zero.
-"""
+"""Tyre forces on the four wheels as a LeafSystem: radial stiffness and damping at one contact
+point per wheel, plus (optionally) the Magic Formula's horizontal forces and moments."""
 
 import numpy as np
 from pydrake.common.value import AbstractValue, Value
@@ -12,13 +8,19 @@ from pydrake.multibody.math import SpatialForce, SpatialVelocity
 from pydrake.multibody.plant import ExternallyAppliedSpatialForce
 from pydrake.systems.framework import BasicVector, LeafSystem, ValueProducer
 
+from drake_car.law.magic_formula import magic_formula
 from drake_car.law.tyre_contact import RadialTyre, contact_point, flat_road, radial_force
+from drake_car.law.tyre_slip import (
+    SlipOptions, contact_kinematics, low_speed_weight, relax, steady_slips, transient_slips)
 
 WHEELS = ("fl", "fr", "rl", "rr")
+DIAGNOSTIC_FIELDS = ("Fx_N", "Fy_N", "Fz_N", "Mz_Nm", "kappa", "alpha_rad", "gamma_rad",
+                     "vx_mps")
+_UP = np.array([0.0, 0.0, 1.0])
 
 
 class TyreSystem(LeafSystem):
-    """Radial tyre forces at one contact point per wheel.
+    """Tyre forces at one contact point per wheel.
 
     .. pydrake_system::
 
@@ -29,64 +31,138 @@ class TyreSystem(LeafSystem):
         output_ports:
         - tyre_forces
         - tyre_loads
+        - tyre_diagnostics
 
     ``body_poses`` and ``body_spatial_velocities`` are the plant's outputs of the same names.
-    ``tyre_forces`` is a list of ExternallyAppliedSpatialForce (one per wheel, applied at the
-    contact point, expressed in world) for the plant's ``applied_spatial_force`` input.
-    ``tyre_loads`` is the vector of vertical loads Fz (N) in the order fl, fr, rl, rr followed by
-    the deflections (m) in the same order.
+    ``tyre_forces``: list of ExternallyAppliedSpatialForce, one per wheel, applied at the
+    contact point, in world. ``tyre_loads``: Fz (N) of fl, fr, rl, rr, then their radial
+    deflections (m). ``tyre_diagnostics``: per wheel the fields ``DIAGNOSTIC_FIELDS`` in the
+    contact frame (x along the wheel heading, y to its left; ISO slip conventions).
 
-    Equations: deflection δ = max(0, h(x_c, y_c) - z_c) at the lowest point c of the wheel circle;
-    Fz = max(0, k δ + c δ̇), with δ̇ = -v_z of the wheel centre.
+    Vertical: deflection δ = max(0, h(x_c, y_c) - z_c) at the lowest point c of the wheel's
+    circle, Fz = max(0, k δ + c δ̇) with δ̇ = -v_z of the wheel centre. Horizontal (when a Magic
+    Formula tyre is given): Fx, Fy, Mz, My of ``drake_car.law.magic_formula`` at the slips of
+    ``drake_car.law.tyre_slip`` (transient with relaxation lengths, kept as discrete state, or
+    steady), effective rolling radius R_e = R0 - δ/3, plus a viscous contact damping faded in
+    below a low speed. Without relaxation the slips divide by max(|V_x|, v_floor): such a tyre is
+    stiff at low speed and meant for runs that start rolling.
     """
 
-    def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=flat_road):
+    def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=flat_road, *,
+                 magic_formula_tyre=None, slip: SlipOptions = SlipOptions(), combined=True,
+                 time_step_s=None):
         super().__init__()
         missing = [w for w in WHEELS if w not in wheel_bodies]
         if missing:
             raise ValueError(f"TyreSystem: wheel bodies missing for {missing}")
         self._tyre = tyre
         self._road = road_height
+        self._mf = magic_formula_tyre
+        self._slip = slip
+        self._combined = combined
         self._body_indices = [wheel_bodies[w].index() for w in WHEELS]
+        self._int_indices = [int(i) for i in self._body_indices]
         self._poses_port = self.DeclareAbstractInputPort(
             "body_poses", Value[list[RigidTransform]]())
         self._velocities_port = self.DeclareAbstractInputPort(
             "body_spatial_velocities", Value[list[SpatialVelocity]]())
-        self.DeclareAbstractOutputPort(
-            "tyre_forces", lambda: Value[list[ExternallyAppliedSpatialForce]](),
-            self._calc_forces)
-        self.DeclareVectorOutputPort("tyre_loads", BasicVector(2 * len(WHEELS)), self._calc_loads)
-        self._solution_cache = self.DeclareCacheEntry(
+        self._relaxed = self._mf is not None and slip.relaxation
+        if self._relaxed:
+            if not (time_step_s and time_step_s > 0):
+                raise ValueError("TyreSystem: relaxation needs the plant's time_step_s > 0")
+            self._dt = time_step_s
+            self._deflections = self.DeclareDiscreteState(2 * len(WHEELS))
+            self.DeclarePeriodicDiscreteUpdateEvent(time_step_s, 0.0, self._update)
+        self._solution = self.DeclareCacheEntry(
             description="contact_solution",
             value_producer=ValueProducer(
                 allocate=lambda: AbstractValue.Make(()), calc=self._calc_solution),
-            prerequisites_of_calc={self.all_input_ports_ticket()})
+            prerequisites_of_calc={self.all_input_ports_ticket(), self.xd_ticket()})
+        self.DeclareAbstractOutputPort(
+            "tyre_forces", lambda: Value[list[ExternallyAppliedSpatialForce]](),
+            self._calc_forces, prerequisites_of_calc={self._solution.ticket()})
+        self.DeclareVectorOutputPort("tyre_loads", BasicVector(2 * len(WHEELS)),
+                                     self._calc_loads,
+                                     prerequisites_of_calc={self._solution.ticket()})
+        self.DeclareVectorOutputPort(
+            "tyre_diagnostics", BasicVector(len(DIAGNOSTIC_FIELDS) * len(WHEELS)),
+            self._calc_diagnostics, prerequisites_of_calc={self._solution.ticket()})
+
+    def diagnostic_names(self):
+        return [f"{field}_{w}" for w in WHEELS for field in DIAGNOSTIC_FIELDS]
 
     def _calc_solution(self, context, abstract_value):
         poses = self._poses_port.Eval(context)
         velocities = self._velocities_port.Eval(context)
+        deflections = (context.get_discrete_state(self._deflections).get_value()
+                       if self._relaxed else None)
+        radius = self._tyre.unloaded_radius_m
         result = []
-        for index in self._body_indices:
-            pose = poses[int(index)]
+        for k, index in enumerate(self._int_indices):
+            pose = poses[index]
             rotation = pose.rotation().matrix()
             centre = pose.translation()
-            point, deflection, _ = contact_point(centre, rotation[:, 1],
-                                                 self._tyre.unloaded_radius_m, self._road)
-            rate = -velocities[int(index)].translational()[2]
-            fz = radial_force(self._tyre, deflection, rate)
-            result.append((index, rotation, centre, point, deflection, fz))
+            axis = rotation[:, 1]
+            point, deflection, _ = contact_point(centre, axis, radius, self._road)
+            velocity = velocities[index]
+            v = velocity.translational()
+            fz = radial_force(self._tyre, deflection, -v[2])
+            force = np.array([0.0, 0.0, fz])
+            torque = np.zeros(3)
+            diagnostics = [0.0, 0.0, fz, 0.0, 0.0, 0.0, 0.0, 0.0]
+            kin = None
+            if self._mf is not None:
+                kin = contact_kinematics(axis, centre, v, velocity.rotational(), point,
+                                         radius - deflection / 3.0)
+                if self._relaxed:
+                    kappa, alpha = transient_slips(deflections[2 * k], deflections[2 * k + 1],
+                                                   self._slip)
+                else:
+                    kappa, alpha = steady_slips(kin, self._slip)
+                f = magic_formula(self._mf, fz, kappa, alpha, kin.gamma, kin.v_cx,
+                                  self._combined)
+                damping = (self._slip.low_speed_damping_Nspm
+                           * low_speed_weight(kin.v_cx, self._slip)) if fz > 0 else 0.0
+                fx = f.fx - damping * kin.v_sx
+                fy = f.fy - damping * kin.v_sy
+                force = fx * kin.e_x + fy * kin.e_y + fz * _UP
+                torque = f.mz * _UP + f.my * kin.e_y
+                diagnostics = [fx, fy, fz, f.mz, kappa, alpha, kin.gamma, kin.v_cx]
+            result.append((self._body_indices[k], rotation, centre, point, deflection, force,
+                           torque, diagnostics, kin))
         abstract_value.set_value(tuple(result))
+
+    def _update(self, context, discrete_state):
+        values = np.array(context.get_discrete_state(self._deflections).get_value())
+        options = self._slip
+        for k, entry in enumerate(self._solution.Eval(context)):
+            kin = entry[8]
+            if entry[5][2] <= 0.0:  # wheel off the road: the contact patch relaxes to zero
+                values[2 * k:2 * k + 2] = 0.0
+                continue
+            values[2 * k] = relax(values[2 * k], -kin.v_sx, kin.v_cx,
+                                  options.relaxation_length_long_m, self._dt)
+            values[2 * k + 1] = relax(values[2 * k + 1], kin.v_sy, kin.v_cx,
+                                      options.relaxation_length_lat_m, self._dt)
+        discrete_state.set_value(self._deflections, values)
 
     def _calc_forces(self, context, output):
         forces = []
-        for index, rotation, centre, point, _, fz in self._solution_cache.Eval(context):
-            force = ExternallyAppliedSpatialForce()
-            force.body_index = index
-            force.p_BoBq_B = rotation.T @ (point - centre)
-            force.F_Bq_W = SpatialForce(np.zeros(3), np.array([0.0, 0.0, fz]))
-            forces.append(force)
+        for index, rotation, centre, point, _, force, torque, _, _ in self._solution.Eval(
+                context):
+            applied = ExternallyAppliedSpatialForce()
+            applied.body_index = index
+            applied.p_BoBq_B = rotation.T @ (point - centre)
+            applied.F_Bq_W = SpatialForce(torque, force)
+            forces.append(applied)
         output.set_value(forces)
 
     def _calc_loads(self, context, output):
-        solution = self._solution_cache.Eval(context)
-        output.SetFromVector([s[5] for s in solution] + [s[4] for s in solution])
+        solution = self._solution.Eval(context)
+        output.SetFromVector([s[5][2] for s in solution] + [s[4] for s in solution])
+
+    def _calc_diagnostics(self, context, output):
+        values = []
+        for s in self._solution.Eval(context):
+            values += s[7]
+        output.SetFromVector(values)

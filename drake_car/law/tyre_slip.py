@@ -1,0 +1,91 @@
+"""Tyre kinematics and transient slip (pure numpy): from a wheel's motion to κ, α, γ.
+
+The contact frame at a wheel: e_x = heading (spin axis × road normal), e_y = n × e_x, n = road
+normal (+z). Slip velocities of the contact patch: V_sx = V_cx - Ω R_e (R_e the effective
+rolling radius), V_sy = lateral velocity of the wheel's material point at the contact.
+
+Transient slip (first-order relaxation, Pacejka 2006 section 7.2): contact-patch deflections
+u_x, u_y with
+    du_x/dt = -V_sx - |V_cx| u_x / σκ,   κ' = u_x / σκ,
+    du_y/dt =  V_sy - |V_cx| u_y / σα,   tan α' = u_y / σα,
+integrated exactly over a step with the slip velocities held (so the update is stable at any
+step and at standstill, where the deflections act as springs). Without relaxation, the steady
+slips κ = -V_sx/|V_cx|, tan α = V_sy/|V_cx| are used, with |V_cx| floored at ``v_floor``.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+
+
+@dataclasses.dataclass(frozen=True)
+class SlipOptions:
+    # [EST] relaxation lengths of a 205/60R15 passenger tyre at nominal load: Pacejka (2006)
+    # gives σα of the order of the tyre radius to twice it and σκ several times shorter.
+    relaxation_length_long_m: float = 0.15
+    relaxation_length_lat_m: float = 0.45
+    relaxation: bool = True
+    # Below this speed the steady-state slips use it as the denominator (no division by zero).
+    v_floor_mps: float = 1.0
+    # Viscous contact damping faded in below ``low_speed_mps`` (damps the standstill springs).
+    low_speed_mps: float = 1.0
+    low_speed_damping_Nspm: float = 1500.0
+
+    def __post_init__(self):
+        for name in ("relaxation_length_long_m", "relaxation_length_lat_m", "v_floor_mps",
+                     "low_speed_mps"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"tyre slip option {name} = {getattr(self, name)} must be > 0")
+        if not self.low_speed_damping_Nspm >= 0:
+            raise ValueError("tyre slip option low_speed_damping_Nspm must be >= 0")
+
+
+@dataclasses.dataclass
+class ContactKinematics:
+    e_x: np.ndarray
+    e_y: np.ndarray
+    gamma: float  # ISO inclination: rotation about e_x, positive with the top leaning right
+    v_cx: float  # forward speed of the wheel centre (m/s)
+    v_sx: float  # longitudinal slip velocity (m/s)
+    v_sy: float  # lateral slip velocity of the contact (m/s)
+
+
+def contact_kinematics(spin_axis, centre, velocity, angular_velocity, contact,
+                       rolling_radius):
+    """Contact frame, inclination and slip velocities of one wheel (all vectors in world)."""
+    n = np.array([0.0, 0.0, 1.0])
+    e_x = np.cross(spin_axis, n)
+    norm = np.linalg.norm(e_x)
+    e_x = e_x / norm if norm > 1e-9 else np.array([1.0, 0.0, 0.0])
+    e_y = np.cross(n, e_x)
+    gamma = math.asin(max(-1.0, min(1.0, float(spin_axis[2]))))
+    material = velocity + np.cross(angular_velocity, contact - centre)
+    v_cx = float(velocity @ e_x)
+    spin = float(angular_velocity @ spin_axis)
+    return ContactKinematics(e_x, e_y, gamma, v_cx, v_cx - spin * rolling_radius,
+                             float(material @ e_y))
+
+
+def relax(deflection, slip_velocity_term, speed, length, dt):
+    """Exact step of du/dt = s - (|V|/σ) u with s held: returns u(t + dt)."""
+    rate = abs(speed) / length
+    if rate * dt < 1e-9:
+        return deflection + slip_velocity_term * dt
+    decay = math.exp(-rate * dt)
+    return deflection * decay + slip_velocity_term / rate * (1.0 - decay)
+
+
+def steady_slips(kin: ContactKinematics, options: SlipOptions):
+    speed = max(abs(kin.v_cx), options.v_floor_mps)
+    return -kin.v_sx / speed, math.atan(kin.v_sy / speed)
+
+
+def transient_slips(u_x, u_y, options: SlipOptions):
+    return (u_x / options.relaxation_length_long_m,
+            math.atan(u_y / options.relaxation_length_lat_m))
+
+
+def low_speed_weight(v_cx, options: SlipOptions):
+    """1 at standstill, fading linearly to 0 at ``low_speed_mps``."""
+    return max(0.0, 1.0 - abs(v_cx) / options.low_speed_mps)
