@@ -1,23 +1,44 @@
-"""Assembles the car's Diagram: plant, tyres, steering command, strut friction, loggers.
+"""Assembles the car's Diagram: plant, tyres, steering and drive commands, strut friction.
 
 The diagram holds only the systems asked for: no friction system unless ``friction`` is given,
-no visualiser unless ``meshcat`` is given.
+no Magic Formula unless the tyre setup asks for it, no drive servo unless a drive trajectory is
+given, no visualiser unless ``meshcat`` is given.
 """
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
+from pydrake.multibody.tree import PdControllerGains
 from pydrake.systems.framework import DiagramBuilder
-from pydrake.systems.primitives import ConstantVectorSource, Multiplexer, MatrixGain
+from pydrake.systems.primitives import (
+    ConstantVectorSource, MatrixGain, Multiplexer, TrajectorySource)
 
+from drake_car.law.magic_formula import MagicFormulaTyre
 from drake_car.law.tyre_contact import RadialTyre, flat_road
+from drake_car.law.tyre_slip import SlipOptions
 from drake_car.model.car import add_car
 from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
 from drake_car.systems.tyre import TyreSystem
 
 DEFAULT_TIME_STEP_S = 1e-3
+DEFAULT_TIR = Path(__file__).resolve().parents[1] / "urdf" / "tyres" / "pacejka2006_205_60R15.tir"
+# Prescribed front-wheel rotation (paper section 4): a stiff SAP servo on each wheel's spin
+# joint; 1e5 N m/rad keeps the wheel within ~0.01 rad of its command at the ~1 kN m drive torque
+# of the speed-up, and 2e3 N m s/rad over-damps the wheel's 0.6 kg m².
+DRIVE_SERVO_GAINS = PdControllerGains(p=1.0e5, d=2.0e3)
+
+
+@dataclasses.dataclass
+class TyreSetup:
+    """Which tyre model: ``magic_formula`` False gives the vertical part only."""
+
+    magic_formula: bool = True
+    tir_path: Path = DEFAULT_TIR
+    combined: bool = True
+    slip: SlipOptions = dataclasses.field(default_factory=SlipOptions)
 
 
 @dataclasses.dataclass
@@ -29,6 +50,7 @@ class CarDiagram:
     tyre: object
     friction: dict  # side -> StrutFriction (empty when friction is off)
     rack_command: object  # system whose output is [rack_m, rack_mps]
+    drive_actuators: list
     time_step_s: float
 
     def plant_context(self, root_context):
@@ -36,22 +58,41 @@ class CarDiagram:
 
 
 def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAULT_TIME_STEP_S,
-                      model_path=None, friction=None, road_height=flat_road, meshcat=None,
-                      fixed_chassis=False, rack_command=None):
+                      model_path=None, friction=None, tyres: TyreSetup | None = None,
+                      road_height=flat_road, meshcat=None, fixed_chassis=False,
+                      rack_trajectory=None, drive_trajectory=None):
     """Builds the car's Diagram.
 
-    ``friction``: None (no friction system) or a ``StrutFrictionSetup`` from
-    ``drake_car.systems.strut_friction`` (parameters and scheme for both front struts).
-    ``rack_command``: a system with one output [rack_m, rack_mps] (default: rack held at 0).
+    ``friction``: None (no friction system) or a ``StrutFrictionSetup`` (both front struts).
+    ``tyres``: a ``TyreSetup``; default: vertical only (the car stands or settles).
+    ``rack_trajectory``: a PiecewisePolynomial of the rack position (m), fed to the rack servo
+    with its derivative by a TrajectorySource (default: rack held at 0).
+    ``drive_trajectory``: a PiecewisePolynomial of the two front wheels' rotation angles (rad);
+    adds a servo on each front wheel (default: free-rolling wheels).
     """
     if not time_step_s > 0:
         raise ValueError(f"time_step_s = {time_step_s} must be > 0 (the plant is discrete)")
     params = params or CarParameters()
+    tyres = tyres or TyreSetup(magic_formula=False)
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlant(
         MultibodyPlantConfig(time_step=time_step_s, discrete_contact_approximation="sap"),
         builder)
     car = add_car(plant, params, model_path=model_path, fixed_chassis=fixed_chassis)
+    # Actuators of the car instance, in the order they are added: the rack servo (add_car),
+    # then the drive servos, then the friction pairs. Each entry: (desired-state port or None,
+    # feed-forward port or None, number of actuators).
+    actuator_groups = [("rack", 1)]
+    drive_actuators = []
+    if drive_trajectory is not None:
+        if drive_trajectory.rows() != 2:
+            raise ValueError("drive_trajectory must give the two front wheels' angles")
+        for side in SIDES:
+            actuator = plant.AddJointActuator(f"drive_{side}",
+                                              car.joint(f"wheel_front_{side}_spin"))
+            actuator.set_controller_gains(DRIVE_SERVO_GAINS)
+            drive_actuators.append(actuator)
+        actuator_groups.append(("drive", 2))
     friction_declarations = {}
     if friction is not None:
         friction.check_time_step(time_step_s)
@@ -59,11 +100,13 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
             friction_declarations[side] = friction.declare(plant, car.strut_joints(side), side)
     plant.Finalize()
 
+    magic = MagicFormulaTyre.from_file(tyres.tir_path) if tyres.magic_formula else None
     tyre = builder.AddSystem(TyreSystem(
         car.wheel_bodies(),
         RadialTyre(params.tyre.unloaded_radius_m, params.tyre.radial_stiffness_Npm,
                    params.tyre.radial_damping_Nspm),
-        road_height))
+        road_height, magic_formula_tyre=magic, slip=tyres.slip, combined=tyres.combined,
+        time_step_s=time_step_s))
     tyre.set_name("tyres")
     builder.Connect(plant.get_body_poses_output_port(), tyre.GetInputPort("body_poses"))
     builder.Connect(plant.get_body_spatial_velocities_output_port(),
@@ -71,40 +114,33 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     builder.Connect(tyre.GetOutputPort("tyre_forces"),
                     plant.get_applied_spatial_force_input_port())
 
-    if rack_command is None:
+    if rack_trajectory is None:
         rack_command = builder.AddSystem(ConstantVectorSource(np.zeros(2)))
         rack_command.set_name("rack_hold")
     else:
-        builder.AddSystem(rack_command)
-
+        rack_command = builder.AddSystem(TrajectorySource(rack_trajectory, 1))
+        rack_command.set_name("rack_command_akima")
+    desired = [rack_command.get_output_port(0)]
+    feedforward = [None]
+    if drive_trajectory is not None:
+        drive = builder.AddSystem(TrajectorySource(drive_trajectory, 1))
+        drive.set_name("drive_command")
+        desired.append(drive.get_output_port(0))
+        feedforward.append(None)
     friction_systems = {}
-    desired_sources = [(rack_command.get_output_port(0), 1)]
-    actuation_sources = []
     for side, declaration in friction_declarations.items():
         system = builder.AddSystem(friction.make_system(
             plant, declaration, side, guide_length_l_m=params.front.guide_length_l_m))
         system.set_name(f"strut_friction_{side}")
         system.connect(builder, plant)
         friction_systems[side] = system
-        actuation_sources.append(system.actuation_output_port())
-        port = system.desired_state_output_port()
-        if port is None:  # explicit scheme: its actuators have no PD; their desired state is unused
-            zeros = builder.AddSystem(ConstantVectorSource(np.zeros(2 * system.num_pairs())))
-            zeros.set_name(f"strut_friction_{side}_no_desired_state")
-            port = zeros.get_output_port(0)
-        desired_sources.append((port, system.num_pairs()))
-    _connect_desired_state(builder, plant, car.instance, desired_sources)
-    if actuation_sources:
-        # Actuators of the car instance, in order: rack servo (no feed-forward), then the pairs.
-        zero = builder.AddSystem(ConstantVectorSource(np.zeros(1)))
-        zero.set_name("rack_feedforward")
-        mux = builder.AddSystem(Multiplexer(
-            [1] + [port.size() for port in actuation_sources]))
-        mux.set_name("actuation_mux")
-        builder.Connect(zero.get_output_port(0), mux.get_input_port(0))
-        for i, port in enumerate(actuation_sources):
-            builder.Connect(port, mux.get_input_port(i + 1))
-        builder.Connect(mux.get_output_port(0), plant.get_actuation_input_port(car.instance))
+        actuator_groups.append((f"friction_{side}", system.num_pairs()))
+        desired.append(system.desired_state_output_port())  # None: explicit scheme, no PD
+        feedforward.append(system.actuation_output_port())
+    sizes = [n for _, n in actuator_groups]
+    _connect_desired_state(builder, plant, car.instance, desired, sizes)
+    if any(port is not None for port in feedforward):
+        _connect_actuation(builder, plant, car.instance, feedforward, sizes)
 
     if meshcat is not None:
         from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams, Role
@@ -115,25 +151,36 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     diagram.set_name("car")
     return CarDiagram(diagram=diagram, plant=plant, scene_graph=scene_graph, car=car, tyre=tyre,
                       friction=friction_systems, rack_command=rack_command,
-                      time_step_s=time_step_s)
+                      drive_actuators=drive_actuators, time_step_s=time_step_s)
 
 
-def _connect_desired_state(builder, plant, instance, sources):
-    """The plant wants [q_d of each PD actuator..., v_d of each...] in actuator order; each source
-    gives [q_d (n), v_d (n)] for its n actuators, added in the same order."""
-    sizes = [2 * n for _, n in sources]
+def _mux(builder, name, ports, sizes, width):
+    """Stacks ``ports`` (None: zeros of that size) into one vector."""
+    mux = builder.AddSystem(Multiplexer([width(n) for n in sizes]))
+    mux.set_name(name)
+    for i, (port, n) in enumerate(zip(ports, sizes)):
+        if port is None:
+            zeros = builder.AddSystem(ConstantVectorSource(np.zeros(width(n))))
+            zeros.set_name(f"{name}_zeros_{i}")
+            port = zeros.get_output_port(0)
+        builder.Connect(port, mux.get_input_port(i))
+    return mux
+
+
+def _connect_desired_state(builder, plant, instance, ports, sizes):
+    """The plant wants [q_d of every actuator..., v_d of every actuator...] in actuator order;
+    each source gives [q_d (n), v_d (n)] for its n actuators (None: not PD-controlled)."""
     port = plant.get_desired_state_input_port(instance)
-    total = sum(n for _, n in sources)
+    total = sum(sizes)
     if port.size() != 2 * total:
         raise RuntimeError(f"desired-state port has size {port.size()}, sources give {2 * total}")
-    if len(sources) == 1:
-        builder.Connect(sources[0][0], port)
+    if len(ports) == 1:
+        builder.Connect(ports[0], port)
         return
-    mux = builder.AddSystem(Multiplexer(sizes))
-    mux.set_name("desired_state_mux")
+    mux = _mux(builder, "desired_state_mux", ports, sizes, lambda n: 2 * n)
     permutation = np.zeros((2 * total, 2 * total))
     offset, row = 0, 0
-    for _, n in sources:
+    for n in sizes:
         for k in range(n):
             permutation[row + k, offset + k] = 1.0  # q_d
             permutation[total + row + k, offset + n + k] = 1.0  # v_d
@@ -141,7 +188,10 @@ def _connect_desired_state(builder, plant, instance, sources):
         row += n
     gain = builder.AddSystem(MatrixGain(permutation))
     gain.set_name("desired_state_order")
-    for i, (source, _) in enumerate(sources):
-        builder.Connect(source, mux.get_input_port(i))
     builder.Connect(mux.get_output_port(0), gain.get_input_port())
     builder.Connect(gain.get_output_port(), port)
+
+
+def _connect_actuation(builder, plant, instance, ports, sizes):
+    mux = _mux(builder, "actuation_mux", ports, sizes, lambda n: n)
+    builder.Connect(mux.get_output_port(0), plant.get_actuation_input_port(instance))

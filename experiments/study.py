@@ -144,7 +144,8 @@ def write_report(path, lubricated, sweep, runs, wall, args):
         f"({100 * (rear / design['rear'] - 1):+.2f} %) |",
         f"| total mass | {lubricated.total_mass_kg:.1f} kg | 1225.9 kg |",
         f"| ride height front / rear | {lubricated.ride_height_m['front']:.4f} / "
-        f"{lubricated.ride_height_m['rear']:.4f} m | design 0.3135 m |",
+        f"{lubricated.ride_height_m['rear']:.4f} m | design "
+        f"{CarParameters().tyre.unloaded_radius_m} m |",
         f"| strut overlap d left / right | {lubricated.strut_overlap_m['left']:.5f} / "
         f"{lubricated.strut_overlap_m['right']:.5f} m | design 0.14 m |",
         f"| loop-closure error (SAP) | {lubricated.loop_closure_error_m:.1e} m | |",

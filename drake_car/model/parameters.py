@@ -123,9 +123,9 @@ class RearSuspensionParameters:
 
 @dataclasses.dataclass
 class TyreVerticalParameters:
-    # Unloaded radius of a 205/60R15 tyre (Pacejka, Tyre and Vehicle Dynamics, 2nd ed., 2006,
-    # Table A3.1), the tyre whose Magic Formula data the project uses.
-    unloaded_radius_m: float = 0.3135
+    # Unloaded radius of the 205/60R15 tyre of Pacejka, Tyre and Vehicle Dynamics, 2nd ed.
+    # (2006), Table A3.1, whose Magic Formula data the project uses (urdf/tyres/).
+    unloaded_radius_m: float = 0.313
     width_m: float = 0.205
     radial_stiffness_Npm: float = 189800.0  # [ESC]
     radial_damping_Nspm: float = 250.0  # [EST] ~5 % of critical for 33 kg unsprung mass

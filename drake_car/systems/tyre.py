@@ -50,7 +50,7 @@ class TyreSystem(LeafSystem):
 
     def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=flat_road, *,
                  magic_formula_tyre=None, slip: SlipOptions = SlipOptions(), combined=True,
-                 time_step_s=None):
+                 time_step_s=None, mirror_right=True, mirror_left=("fl", "rl")):
         super().__init__()
         missing = [w for w in WHEELS if w not in wheel_bodies]
         if missing:
@@ -61,6 +61,11 @@ class TyreSystem(LeafSystem):
         self._slip = slip
         self._combined = combined
         self._body_indices = [wheel_bodies[w].index() for w in WHEELS]
+        # The right-hand tyres are the left-hand ones mirrored (as Adams' and MF-Tyre's tyre-side
+        # option does), so the car is symmetric: the data's ply-steer and conicity offsets
+        # would otherwise push all four tyres the same way.
+        self._mirror = [1.0 if w in mirror_left else -1.0 for w in WHEELS] if mirror_right \
+            else [1.0] * len(WHEELS)
         self._int_indices = [int(i) for i in self._body_indices]
         self._poses_port = self.DeclareAbstractInputPort(
             "body_poses", Value[list[RigidTransform]]())
@@ -119,8 +124,11 @@ class TyreSystem(LeafSystem):
                                                    self._slip)
                 else:
                     kappa, alpha = steady_slips(kin, self._slip)
-                f = magic_formula(self._mf, fz, kappa, alpha, kin.gamma, kin.v_cx,
-                                  self._combined)
+                mirror = self._mirror[k]
+                f = magic_formula(self._mf, fz, kappa, mirror * alpha, mirror * kin.gamma,
+                                  kin.v_cx, self._combined)
+                if mirror < 0:  # right-hand tyre: the data's lateral offsets mirrored
+                    f.fy, f.mz = -f.fy, -f.mz
                 damping = (self._slip.low_speed_damping_Nspm
                            * low_speed_weight(kin.v_cx, self._slip)) if fz > 0 else 0.0
                 fx = f.fx - damping * kin.v_sx
