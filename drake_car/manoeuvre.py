@@ -108,21 +108,28 @@ class LaneChangeProfile:
 
 def rack_trajectory(timeline: Timeline, profile: LaneChangeProfile, case):
     """Rack displacement vs time (m) through the whole run: zero, then the Akima spline through
-    the lane-change knots during phase III, then zero. ``case`` 'a', 'b' or 'straight'."""
+    the lane-change knots during phase III, then zero. ``case`` 'a', 'b' or 'straight'.
+
+    Two zero knots are added before and after the manoeuvre (one knot spacing apart): on such
+    flat stretches Akima's slopes are exactly zero, so the rack rests before and after and the
+    spline joins the rest with zero slope."""
     _, t3, t4, end = timeline.boundaries()
     if case == "straight":
         return PiecewisePolynomial.FirstOrderHold([0.0, end], np.zeros((1, 2)))
     times, values = profile.knots(case)
-    scale = timeline.lane_change_s / times[-1]
-    times = t3 + times * scale
+    times = t3 + times * (timeline.lane_change_s / times[-1])
+    h = times[1] - times[0]
+    times = np.concatenate([[t3 - 2 * h, t3 - h], times, [t4 + h, t4 + 2 * h]])
+    values = np.concatenate([[0.0, 0.0], values, [0.0, 0.0]])
     slopes = akima_slopes(times, values)
-    # Rest before and after: flat Hermite pieces join the spline with zero slope at its ends
-    # only if the spline's end slopes are zero; the knots' shape makes them small, and the
-    # joins are C0 with the spline's own end slopes kept (no jump in the rack position).
-    breaks = np.concatenate([[0.0], times, [max(end, times[-1] + 1e-3)]])
-    samples = np.concatenate([[values[0]], values, [values[-1]]])
-    rates = np.concatenate([[0.0], slopes, [0.0]])
-    if times[0] <= 0.0:
-        breaks, samples, rates = breaks[1:], samples[1:], rates[1:]
+    breaks, samples, rates = times, values, slopes
+    if times[0] > 0.0:
+        breaks = np.concatenate([[0.0], breaks])
+        samples = np.concatenate([[0.0], samples])
+        rates = np.concatenate([[0.0], rates])
+    if breaks[-1] < end:
+        breaks = np.concatenate([breaks, [end]])
+        samples = np.concatenate([samples, [0.0]])
+        rates = np.concatenate([rates, [0.0]])
     return PiecewisePolynomial.CubicHermite(breaks, samples.reshape(1, -1),
                                             rates.reshape(1, -1))

@@ -90,3 +90,17 @@ def test_output_folder_is_all_or_nothing(tmp_path):
             raise RuntimeError("simulation failed")
     assert not target.exists()
     assert not list(tmp_path.iterdir()), "the staging folder must be removed"
+
+
+def test_drive_script(tmp_path):
+    out = tmp_path / "drive"
+    run("drive.py", "--out", out, "--case", "b", "--duration_s", 0.3)
+    h = read_csv(out / "history.csv")
+    required = ["t", "phase", "x_m", "y_m", "yaw_rad", "speed_mps", "rack_m", "steer_fl_deg",
+                "steer_fr_deg"] + [f"{f}_{w}_N" for f in ("Fz", "Fy") for w in
+                                   ("fl", "fr", "rl", "rr")] + ["Fx_fl_N", "Fx_fr_N"]
+    assert set(required) <= set(h), set(required) - set(h)
+    assert set(h["phase"]) == {"I"}
+    assert all(np.all(np.isfinite(h[c])) for c in required if c != "phase")
+    for name in ("path.png", "speed.png", "wheel_loads.png", "drive.json"):
+        assert (out / name).stat().st_size > 0, name

@@ -1,0 +1,94 @@
+"""The car drives: straight, the paper's lane change (cases a and b), steady cornering."""
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from pydrake.trajectories import PiecewisePolynomial
+
+from drake_car.assembly import DEFAULT_TIR
+from drake_car.drive import lane_change_metrics, run_drive
+from drake_car.law.magic_formula import MagicFormulaTyre, magic_formula
+from drake_car.manoeuvre import Timeline
+from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
+
+TIMELINE = Timeline()
+TARGET_MPS = 60 / 3.6
+
+
+def test_straight_run_keeps_its_line_and_speed():
+    run = run_drive("straight", record_period_s=0.05)
+    h = run.history
+    assert np.all(np.isfinite(h["y_m"])) and h["t"][-1] == pytest.approx(10.0)
+    assert np.max(np.abs(h["y_m"])) < 0.05
+    assert np.max(np.abs(np.degrees(h["yaw_rad"]))) < 0.5
+    # 60 km/h reached 3 s after the speed-up began and held; the prescribed wheel speed is
+    # reached up to the tyre's longitudinal slip at cruise (rolling resistance over the slip
+    # stiffness, ~0.1 %) and the effective rolling radius estimate (R0 - δ/3): 1 %.
+    reached = h["t"] >= TIMELINE.settle_s + TIMELINE.speed_up_s + 0.5
+    assert_allclose(h["speed_mps"][reached], TARGET_MPS, rtol=0.01)
+
+
+@pytest.fixture(scope="module")
+def lane_changes():
+    end = TIMELINE.boundaries()[2] + 0.6
+    return {case: run_drive(case, end_time_s=end, record_period_s=0.02).history
+            for case in ("a", "b")}
+
+
+def test_lane_change_shifts_the_track_and_ends_parallel(lane_changes):
+    m = lane_change_metrics(lane_changes["a"], TIMELINE)
+    assert m["shift_m"] == pytest.approx(3.7, abs=0.05)
+    assert abs(m["heading_change_deg"]) < 0.5
+
+
+def test_cases_a_and_b_mirror_each_other(lane_changes):
+    a, b = lane_changes["a"], lane_changes["b"]
+    assert_allclose(a["y_m"], -b["y_m"], atol=0.02 * 3.7)
+    assert_allclose(np.degrees(a["yaw_rad"]), -np.degrees(b["yaw_rad"]), atol=0.5)
+    assert lane_change_metrics(b, TIMELINE)["shift_m"] == pytest.approx(-3.7, abs=0.05)
+
+
+def test_steady_cornering_understeer_gradient():
+    """A slow rack ramp at 60 km/h; K = d(δ - L r / V)/d a_y over a_y = 0.5 ... 2.5 m/s².
+
+    Expected: understeer (K > 0). The tyres alone (bicycle model with the Magic Formula's
+    cornering stiffness at the static corner loads, no load transfer) give
+        K_tyre = m_f / (2 C_f) - m_r / (2 C_r),
+    a lower bound here: the car has no anti-roll bars and near-equal front and rear roll
+    stiffness, so lateral load transfer, the wheels' roll camber and the suspension's
+    compliances all add understeer on a front-heavy car. Passenger cars are tuned to
+    understeer by a few deg/g; 8 deg/g is beyond any production car's linear range.
+    """
+    timeline = Timeline(straight_s=7.0, lane_change_s=0.1, calm_s=0.0)
+    t2 = timeline.boundaries()[0]
+    start, ramp = t2 + 0.5, 5.0
+    rack = PiecewisePolynomial.FirstOrderHold([0.0, start, start + ramp],
+                                              np.array([[0.0, 0.0, 0.005]]))
+
+    def yaw_rate(built, root):
+        pc = built.plant.GetMyContextFromRoot(root)
+        return {"yaw_rate": built.car.body("chassis").EvalSpatialVelocityInWorld(
+            pc).rotational()[2]}
+
+    h = run_drive("straight", timeline=timeline, rack=rack, end_time_s=start + ramp,
+                  record_period_s=0.02, extra_channels=yaw_rate).history
+    params = CarParameters()
+    speed, rate = h["speed_mps"], h["yaw_rate"]
+    lateral = speed * rate
+    steer = np.radians(0.5 * (h["steer_fl_deg"] + h["steer_fr_deg"]))
+    use = (h["t"] > start) & (lateral > 0.5) & (lateral < 2.5)
+    assert use.sum() > 50
+    gradient = np.polyfit(lateral[use], (steer - params.wheelbase_m * rate / speed)[use], 1)[0]
+    loads = params.design_axle_loads_N()
+    tyre = MagicFormulaTyre.from_file(DEFAULT_TIR)
+    c_front = abs(magic_formula(tyre, loads["front"] / 2, 0, 0, 0, 16.7).cornering_stiffness)
+    c_rear = abs(magic_formula(tyre, loads["rear"] / 2, 0, 0, 0, 16.7).cornering_stiffness)
+    tyre_only = (loads["front"] / GRAVITY_MPS2 / (2 * c_front)
+                 - loads["rear"] / GRAVITY_MPS2 / (2 * c_rear))
+    to_deg_per_g = math.degrees(1.0) * GRAVITY_MPS2
+    print(f"understeer gradient {gradient * to_deg_per_g:.2f} deg/g "
+          f"(tyres alone {tyre_only * to_deg_per_g:.2f} deg/g)")
+    assert tyre_only > 0
+    assert tyre_only < gradient < math.radians(8.0) / GRAVITY_MPS2
