@@ -113,9 +113,12 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
 
 
 def lane_change_metrics(history, timeline: Timeline):
-    """Lateral shift of the car over phase III and heading change at its end."""
+    """Lateral shift of the car over phase III and heading change at its end (None when the
+    history stops before phase III ends)."""
     t = history["t"]
     _, t3, t4, _ = timeline.boundaries()
+    if t[-1] < t4:
+        return None
     i3, i4 = np.searchsorted(t, t3), min(np.searchsorted(t, t4), len(t) - 1)
     heading = history["yaw_rad"]
     y = history["y_m"]

@@ -41,8 +41,10 @@ def main():
             "real_time_factor": float(h["t"][-1] / run.wall_s),
             "provenance": provenance()})
         plot(h, out, args.case)
-    print(f"shift over phase III {metrics['shift_m']:.3f} m, heading change "
-          f"{metrics['heading_change_deg']:+.2f} deg; {run.wall_s:.1f} s wall; wrote {args.out}")
+    if metrics:
+        print(f"shift over phase III {metrics['shift_m']:.3f} m, heading change "
+              f"{metrics['heading_change_deg']:+.2f} deg")
+    print(f"{h['t'][-1]:.1f} s simulated in {run.wall_s:.1f} s wall; wrote {args.out}")
 
 
 def plot(h, out, case):
