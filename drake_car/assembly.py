@@ -9,7 +9,8 @@ import dataclasses
 from pathlib import Path
 
 import numpy as np
-from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
+from pydrake.multibody.plant import (
+    AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer, MultibodyPlantConfig)
 from pydrake.multibody.tree import PdControllerGains
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import (
@@ -21,6 +22,7 @@ from drake_car.law.tyre_slip import SlipOptions
 from drake_car.model.car import add_car
 from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
+from drake_car.systems.driveshaft import DriveshaftReaction
 from drake_car.systems.tyre import TyreSystem
 
 DEFAULT_TIME_STEP_S = 1e-3
@@ -60,7 +62,7 @@ class CarDiagram:
 def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAULT_TIME_STEP_S,
                       model_path=None, friction=None, tyres: TyreSetup | None = None,
                       road_height=flat_road, meshcat=None, fixed_chassis=False,
-                      rack_trajectory=None, drive_trajectory=None):
+                      rack_trajectory=None, drive_trajectory=None, drive_reaction="driveshaft"):
     """Builds the car's Diagram.
 
     ``friction``: None (no friction system) or a ``StrutFrictionSetup`` (both front struts).
@@ -68,8 +70,12 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     ``rack_trajectory``: a PiecewisePolynomial of the rack position (m), fed to the rack servo
     with its derivative by a TrajectorySource (default: rack held at 0).
     ``drive_trajectory``: a PiecewisePolynomial of the two front wheels' rotation angles (rad);
-    adds a servo on each front wheel (default: free-rolling wheels).
+    adds a servo on each front wheel (default: free-rolling wheels). ``drive_reaction``:
+    "driveshaft" (the servo torque is reacted by the body, as in a front-drive car) or
+    "knuckle" (reacted where the joint is, as a joint motion in Adams).
     """
+    if drive_reaction not in ("driveshaft", "knuckle"):
+        raise ValueError(f"drive_reaction {drive_reaction!r} must be 'driveshaft' or 'knuckle'")
     if not time_step_s > 0:
         raise ValueError(f"time_step_s = {time_step_s} must be > 0 (the plant is discrete)")
     params = params or CarParameters()
@@ -111,8 +117,22 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     builder.Connect(plant.get_body_poses_output_port(), tyre.GetInputPort("body_poses"))
     builder.Connect(plant.get_body_spatial_velocities_output_port(),
                     tyre.GetInputPort("body_spatial_velocities"))
-    builder.Connect(tyre.GetOutputPort("tyre_forces"),
-                    plant.get_applied_spatial_force_input_port())
+    if drive_trajectory is not None and drive_reaction == "driveshaft":
+        shafts = builder.AddSystem(DriveshaftReaction(
+            plant, car.instance, drive_actuators,
+            [car.body(f"knuckle_{side}") for side in SIDES], car.body("chassis")))
+        shafts.set_name("driveshafts")
+        builder.Connect(plant.get_net_actuation_output_port(car.instance),
+                        shafts.GetInputPort("net_actuation"))
+        builder.Connect(plant.get_body_poses_output_port(), shafts.GetInputPort("body_poses"))
+        combine = builder.AddSystem(ExternallyAppliedSpatialForceMultiplexer(2))
+        combine.set_name("applied_forces")
+        builder.Connect(tyre.GetOutputPort("tyre_forces"), combine.get_input_port(0))
+        builder.Connect(shafts.GetOutputPort("reaction_forces"), combine.get_input_port(1))
+        builder.Connect(combine.get_output_port(0), plant.get_applied_spatial_force_input_port())
+    else:
+        builder.Connect(tyre.GetOutputPort("tyre_forces"),
+                        plant.get_applied_spatial_force_input_port())
 
     if rack_trajectory is None:
         rack_command = builder.AddSystem(ConstantVectorSource(np.zeros(2)))
