@@ -11,6 +11,7 @@ from pydrake.systems.analysis import Simulator
 from drake_car.assembly import DEFAULT_TIME_STEP_S, TyreSetup, build_car_diagram
 from drake_car.manoeuvre import (
     LaneChangeProfile, Timeline, drive_trajectory, rack_trajectory)  # noqa: F401
+from drake_car.law.road import flat
 from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
 from drake_car.systems.tyre import WHEELS
@@ -41,11 +42,12 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
               tyres: TyreSetup | None = None, timeline: Timeline | None = None,
               profile: LaneChangeProfile | None = None, time_step_s=DEFAULT_TIME_STEP_S,
               record_period_s=0.01, end_time_s=None, meshcat=None, progress=None,
-              extra_channels=None, rack=None):
+              extra_channels=None, rack=None, road_height=None, drive_reaction="driveshaft"):
     """Simulates the manoeuvre; returns the history (columns ``HISTORY_COLUMNS`` plus those of
     ``extra_channels(built, root_context) -> dict``) sampled every ``record_period_s``.
     ``profile`` defaults to the calibrated lane change (scenes/lane_change_profile.json);
-    ``rack`` (a PiecewisePolynomial) replaces the lane change's rack command altogether."""
+    ``rack`` (a PiecewisePolynomial) replaces the lane change's rack command altogether;
+    ``road_height`` is a profile of ``drake_car.law.road`` (default flat)."""
     if case not in CASES:
         raise ValueError(f"case {case!r} must be one of {CASES}")
     params = params or CarParameters()
@@ -56,6 +58,7 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
         profile = calibrated_profile()
     built = build_car_diagram(
         params, time_step_s=time_step_s, friction=friction, tyres=tyres, meshcat=meshcat,
+        road_height=road_height or flat, drive_reaction=drive_reaction,
         rack_trajectory=rack if rack is not None else rack_trajectory(timeline, profile, case),
         drive_trajectory=drive_trajectory(timeline, rolling_radius(params)))
     simulator = Simulator(built.diagram)

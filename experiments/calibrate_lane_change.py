@@ -8,7 +8,7 @@ scenes/lane_change_profile.json (or --out FILE).
 
 import _common
 
-from drake_car.calibration import calibrate_lane_change, save_profile
+from drake_car.calibration import calibrate_lane_change, calibrated_profile, save_profile
 from drake_car.manoeuvre import LaneChangeProfile
 from drake_car.outputs import provenance
 
@@ -24,7 +24,8 @@ def main():
     p.add_argument("--shift_m", type=_common.positive("shift_m"), default=3.7)
     args = p.parse_args()
     profile, history = calibrate_lane_change(
-        shift_m=args.shift_m, start=LaneChangeProfile(amplitude_m=0.0094, second_lobe=1.0))
+        shift_m=args.shift_m, start=calibrated_profile() if DEFAULT.is_file() else
+        LaneChangeProfile(amplitude_m=0.0094, second_lobe=1.0))
     tmp = args.out.with_suffix(".partial")
     save_profile(tmp, profile, history, provenance(target_shift_m=args.shift_m))
     tmp.replace(args.out)

@@ -63,3 +63,40 @@ def test_tyre_system_alone():
         assert_allclose(force.F_Bq_W.translational(), [0, 0, fz], rtol=1e-9)
         # Applied at the contact point on the road: R - deflection below the centre.
         assert_allclose(np.linalg.norm(force.p_BoBq_B), 0.3 - 0.01 * (i + 1), rtol=1e-9)
+
+
+def test_road_profiles():
+    from drake_car.law.road import CosineBump, RoadProfileError, SampledProfile
+    bump = CosineBump(start_x_m=10.0, length_m=0.5, height_m=0.04)
+    assert bump(9.9, 0.0) == 0.0 and bump(10.5, 1.0) == 0.0
+    assert bump(10.25, -0.7) == pytest.approx(0.04)
+    pothole = CosineBump(10.0, 0.5, -0.03)
+    assert pothole(10.25, 0.0) == pytest.approx(-0.03)
+    samples = SampledProfile((0.0, 1.0, 3.0), (0.0, 0.01, -0.01))
+    assert samples(0.5, 0.0) == pytest.approx(0.005) and samples(5.0, 0.0) == -0.01
+    with pytest.raises(RoadProfileError, match="increase strictly"):
+        SampledProfile((0.0, 1.0, 1.0), (0, 0, 0))
+    with pytest.raises(RoadProfileError, match="sample 1 is not finite"):
+        SampledProfile((0.0, float("nan")), (0, 0))
+    with pytest.raises(RoadProfileError, match="length_m"):
+        CosineBump(0.0, 0.0, 0.1)
+
+
+def test_tyre_load_on_a_bump():
+    """A wheel 2 cm above the flat road touches a 4 cm bump by 2 cm: Fz = k·0.02."""
+    from drake_car.law.road import CosineBump
+    plant = MultibodyPlant(time_step=1e-3)
+    car = add_car(plant)
+    plant.Finalize()
+    bump = CosineBump(start_x_m=-0.25, length_m=0.5, height_m=0.04)
+    tyres = TyreSystem(car.wheel_bodies(), TYRE, bump)
+    context = tyres.CreateDefaultContext()
+    poses = [RigidTransform() for _ in range(plant.num_bodies())]
+    for w, body in car.wheel_bodies().items():
+        x = 0.0 if w == "fl" else 5.0
+        poses[int(body.index())] = RigidTransform([x, 0.7, 0.32])
+    tyres.GetInputPort("body_poses").FixValue(context, poses)
+    tyres.GetInputPort("body_spatial_velocities").FixValue(
+        context, [SpatialVelocity.Zero()] * plant.num_bodies())
+    loads = tyres.GetOutputPort("tyre_loads").Eval(context)
+    assert_allclose(loads[:4], [2.0e5 * 0.02, 0, 0, 0], atol=1e-6)

@@ -7,6 +7,7 @@ function z = h(x, y); its local normal is taken as +z (road slopes are small).
 """
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -31,15 +32,19 @@ def contact_point(centre, spin_axis, radius, road_height):
     Returns (p_contact on the road surface, deflection >= 0, radial unit vector from the centre
     towards the contact). ``spin_axis`` is a unit vector, ``road_height(x, y)`` a callable.
     """
-    down = np.array([0.0, 0.0, -1.0]) - (-spin_axis[2]) * spin_axis
-    norm = np.linalg.norm(down)
+    ax, ay, az = float(spin_axis[0]), float(spin_axis[1]), float(spin_axis[2])
+    # -z projected onto the wheel plane: (0, 0, -1) + a_z a
+    dx, dy, dz = az * ax, az * ay, -1.0 + az * az
+    norm = math.sqrt(dx * dx + dy * dy + dz * dz)
     if norm < 1e-9:  # wheel lying flat: no rolling contact defined
-        return centre.copy(), 0.0, np.array([0.0, 0.0, -1.0])
-    down /= norm
-    rim = centre + radius * down
-    ground = road_height(rim[0], rim[1])
-    deflection = max(0.0, ground - rim[2])
-    return np.array([rim[0], rim[1], ground]), deflection, down
+        return np.array(centre, dtype=float), 0.0, np.array([0.0, 0.0, -1.0])
+    dx, dy, dz = dx / norm, dy / norm, dz / norm
+    x = float(centre[0]) + radius * dx
+    y = float(centre[1]) + radius * dy
+    z = float(centre[2]) + radius * dz
+    ground = road_height(x, y)
+    deflection = max(0.0, ground - z)
+    return np.array([x, y, ground]), deflection, np.array([dx, dy, dz])
 
 
 def radial_force(tyre: RadialTyre, deflection, deflection_rate):

@@ -53,18 +53,31 @@ class ContactKinematics:
 
 def contact_kinematics(spin_axis, centre, velocity, angular_velocity, contact,
                        rolling_radius):
-    """Contact frame, inclination and slip velocities of one wheel (all vectors in world)."""
-    n = np.array([0.0, 0.0, 1.0])
-    e_x = np.cross(spin_axis, n)
-    norm = np.linalg.norm(e_x)
-    e_x = e_x / norm if norm > 1e-9 else np.array([1.0, 0.0, 0.0])
-    e_y = np.cross(n, e_x)
-    gamma = math.asin(max(-1.0, min(1.0, float(spin_axis[2]))))
-    material = velocity + np.cross(angular_velocity, contact - centre)
-    v_cx = float(velocity @ e_x)
-    spin = float(angular_velocity @ spin_axis)
+    """Contact frame, inclination and slip velocities of one wheel (all vectors in world).
+    Written out in scalars: this runs four times per step."""
+    ax, ay, az = float(spin_axis[0]), float(spin_axis[1]), float(spin_axis[2])
+    # e_x = a × n with n = +z; e_y = n × e_x.
+    ex, ey = ay, -ax
+    norm = math.hypot(ex, ey)
+    if norm > 1e-9:
+        ex, ey = ex / norm, ey / norm
+    else:
+        ex, ey = 1.0, 0.0
+    e_x = np.array([ex, ey, 0.0])
+    e_y = np.array([-ey, ex, 0.0])
+    gamma = math.asin(max(-1.0, min(1.0, az)))
+    vx, vy, vz = float(velocity[0]), float(velocity[1]), float(velocity[2])
+    wx, wy, wz = (float(angular_velocity[0]), float(angular_velocity[1]),
+                  float(angular_velocity[2]))
+    rx, ry, rz = (float(contact[0] - centre[0]), float(contact[1] - centre[1]),
+                  float(contact[2] - centre[2]))
+    # material point velocity v + ω × r, projected on e_y
+    mx = vx + wy * rz - wz * ry
+    my = vy + wz * rx - wx * rz
+    v_cx = vx * ex + vy * ey
+    spin = wx * ax + wy * ay + wz * az
     return ContactKinematics(e_x, e_y, gamma, v_cx, v_cx - spin * rolling_radius,
-                             float(material @ e_y))
+                             -mx * ey + my * ex)
 
 
 def relax(deflection, slip_velocity_term, speed, length, dt):

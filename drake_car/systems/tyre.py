@@ -78,11 +78,19 @@ class TyreSystem(LeafSystem):
             self._dt = time_step_s
             self._deflections = self.DeclareDiscreteState(2 * len(WHEELS))
             self.DeclarePeriodicDiscreteUpdateEvent(time_step_s, 0.0, self._update)
+        # Two caches: the contact kinematics depend on the plant's outputs only, the forces also
+        # on the deflection states; the discrete update reads the first, so a step evaluates
+        # each once.
+        self._kinematics = self.DeclareCacheEntry(
+            description="contact_kinematics",
+            value_producer=ValueProducer(
+                allocate=lambda: AbstractValue.Make(()), calc=self._calc_kinematics),
+            prerequisites_of_calc={self.all_input_ports_ticket()})
         self._solution = self.DeclareCacheEntry(
             description="contact_solution",
             value_producer=ValueProducer(
                 allocate=lambda: AbstractValue.Make(()), calc=self._calc_solution),
-            prerequisites_of_calc={self.all_input_ports_ticket(), self.xd_ticket()})
+            prerequisites_of_calc={self._kinematics.ticket(), self.xd_ticket()})
         self.DeclareAbstractOutputPort(
             "tyre_forces", lambda: Value[list[ExternallyAppliedSpatialForce]](),
             self._calc_forces, prerequisites_of_calc={self._solution.ticket()})
@@ -96,11 +104,9 @@ class TyreSystem(LeafSystem):
     def diagnostic_names(self):
         return [f"{field}_{w}" for w in WHEELS for field in DIAGNOSTIC_FIELDS]
 
-    def _calc_solution(self, context, abstract_value):
+    def _calc_kinematics(self, context, abstract_value):
         poses = self._poses_port.Eval(context)
         velocities = self._velocities_port.Eval(context)
-        deflections = (context.get_discrete_state(self._deflections).get_value()
-                       if self._relaxed else None)
         radius = self._tyre.unloaded_radius_m
         result = []
         for k, index in enumerate(self._int_indices):
@@ -112,13 +118,23 @@ class TyreSystem(LeafSystem):
             velocity = velocities[index]
             v = velocity.translational()
             fz = radial_force(self._tyre, deflection, -v[2])
-            force = np.array([0.0, 0.0, fz])
-            torque = np.zeros(3)
-            diagnostics = [0.0, 0.0, fz, 0.0, 0.0, 0.0, 0.0, 0.0]
             kin = None
             if self._mf is not None:
                 kin = contact_kinematics(axis, centre, v, velocity.rotational(), point,
                                          radius - deflection / 3.0)
+            result.append((self._body_indices[k], rotation, centre, point, deflection, fz, kin))
+        abstract_value.set_value(tuple(result))
+
+    def _calc_solution(self, context, abstract_value):
+        deflections = (context.get_discrete_state(self._deflections).get_value()
+                       if self._relaxed else None)
+        result = []
+        for k, (index, rotation, centre, point, deflection, fz, kin) in enumerate(
+                self._kinematics.Eval(context)):
+            force = np.array([0.0, 0.0, fz])
+            torque = np.zeros(3)
+            diagnostics = [0.0, 0.0, fz, 0.0, 0.0, 0.0, 0.0, 0.0]
+            if kin is not None:
                 if self._relaxed:
                     kappa, alpha = transient_slips(deflections[2 * k], deflections[2 * k + 1],
                                                    self._slip)
@@ -136,16 +152,16 @@ class TyreSystem(LeafSystem):
                 force = fx * kin.e_x + fy * kin.e_y + fz * _UP
                 torque = f.mz * _UP + f.my * kin.e_y
                 diagnostics = [fx, fy, fz, f.mz, kappa, alpha, kin.gamma, kin.v_cx]
-            result.append((self._body_indices[k], rotation, centre, point, deflection, force,
-                           torque, diagnostics, kin))
+            result.append((index, rotation, centre, point, deflection, force, torque,
+                           diagnostics, kin))
         abstract_value.set_value(tuple(result))
 
     def _update(self, context, discrete_state):
         values = np.array(context.get_discrete_state(self._deflections).get_value())
         options = self._slip
-        for k, entry in enumerate(self._solution.Eval(context)):
-            kin = entry[8]
-            if entry[5][2] <= 0.0:  # wheel off the road: the contact patch relaxes to zero
+        for k, entry in enumerate(self._kinematics.Eval(context)):
+            kin = entry[6]
+            if entry[5] <= 0.0:  # wheel off the road: the contact patch relaxes to zero
                 values[2 * k:2 * k + 2] = 0.0
                 continue
             values[2 * k] = relax(values[2 * k], -kin.v_sx, kin.v_cx,
