@@ -14,6 +14,7 @@ from drake_car.manoeuvre import (
 from drake_car.law.road import flat
 from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
+from drake_car.monitor import attach_monitor, run_checked
 from drake_car.systems.tyre import WHEELS
 
 CASES = ("a", "b", "straight")
@@ -79,10 +80,11 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
     end = timeline.duration_s if end_time_s is None else end_time_s
     steps = int(round(end / record_period_s))
     history = {c: [] for c in HISTORY_COLUMNS}
+    attach_monitor(simulator, built)
     simulator.Initialize()
     start = time.perf_counter()
     for k in range(steps + 1):
-        simulator.AdvanceTo(k * record_period_s)
+        run_checked(simulator, k * record_period_s)
         t = root.get_time()
         pose = chassis.EvalPoseInWorld(pc)
         rotation = pose.rotation().matrix()

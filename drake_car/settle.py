@@ -10,6 +10,7 @@ from drake_car.assembly import DEFAULT_TIME_STEP_S, build_car_diagram
 from drake_car.model.car import loop_closure_error, strut_overlap
 from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
+from drake_car.monitor import attach_monitor, run_checked
 from drake_car.systems.tyre import WHEELS
 
 
@@ -53,6 +54,7 @@ def run_settle(params: CarParameters | None = None, *, friction=None, duration_s
     root = simulator.get_mutable_context()
     pc = plant.GetMyContextFromRoot(root)
     tyre_context = built.tyre.GetMyContextFromRoot(root)
+    attach_monitor(simulator, built)
     simulator.Initialize()
     history = {"t": [], "z_chassis_m": [], "max_abs_generalized_velocity": []}
     history.update({f"Fz_{w}_N": [] for w in WHEELS})
@@ -60,7 +62,7 @@ def run_settle(params: CarParameters | None = None, *, friction=None, duration_s
     start = time.perf_counter()
     n = int(round(duration_s / record_period_s))
     for k in range(n + 1):
-        simulator.AdvanceTo(k * record_period_s)
+        run_checked(simulator, k * record_period_s)
         loads = built.tyre.GetOutputPort("tyre_loads").Eval(tyre_context)
         history["t"].append(root.get_time())
         for i, w in enumerate(WHEELS):
