@@ -46,6 +46,7 @@ class RunConfig:
     timeline: Timeline = dataclasses.field(default_factory=Timeline)
     scheme: str = "fast"
     record_period_s: float = 0.01
+    tyres: TyreSetup = dataclasses.field(default_factory=TyreSetup)
 
     @property
     def name(self):
@@ -91,7 +92,7 @@ def run_one(config: RunConfig, d_static, meshcat=None):
     """Simulates one run; returns (columns RUN_COLUMNS, info)."""
     params, friction = config.car()
     start = time.perf_counter()
-    run = run_drive(config.case, params, friction=friction, tyres=TyreSetup(),
+    run = run_drive(config.case, params, friction=friction, tyres=config.tyres,
                     timeline=config.timeline, time_step_s=config.time_step_s,
                     record_period_s=config.record_period_s, meshcat=meshcat,
                     extra_channels=_friction_channels)

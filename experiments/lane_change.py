@@ -108,7 +108,9 @@ def main():
                 "mu_s_mu_d": FRICTION_SETS[config.friction_set],
                 "friction": None if friction is None else dataclasses.asdict(friction),
                 "car": dataclasses.asdict(params), "timeline": dataclasses.asdict(timeline),
-                "time_step_s": config.time_step_s, "tyres": str(TyreSetup().tir_path),
+                "time_step_s": config.time_step_s,
+                "tyres": {"tir": str(config.tyres.tir_path), "combined": config.tyres.combined,
+                          "slip": dataclasses.asdict(config.tyres.slip)},
                 "d_static_m": d_static, "result": info})
         figures = all_figures(runs, timeline, out)
         a3 = RunConfig("a", 3, time_step_s=args.time_step_s, timeline=timeline)
