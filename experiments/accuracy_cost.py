@@ -51,7 +51,7 @@ def simulate(scene, dt, scheme, tyre_model, scale):
 
 def main():
     p = _common.parser(__doc__)
-    p.add_argument("--steps", default="5e-3,2e-3,1e-3,5e-4,2e-4,1e-4",
+    p.add_argument("--steps", default="1e-2,5e-3,2e-3,1e-3,5e-4,1e-4",
                    help="time steps to sweep (s), comma separated")
     p.add_argument("--reference_step_s", type=_common.positive("reference_step_s"),
                    default=5e-5)
