@@ -20,34 +20,25 @@ def parser(doc, default_out=None):
     return p
 
 
-def positive(name):
+def _checked(name, valid, requirement):
     def check(text):
         try:
             value = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"--{name}: {text!r} is not a number")
-        if not value > 0:
-            raise argparse.ArgumentTypeError(f"--{name}: {value} must be > 0")
+        if not valid(value):
+            raise argparse.ArgumentTypeError(f"--{name}: {value} must be {requirement}")
         return value
     return check
+
+
+def positive(name):
+    return _checked(name, lambda v: v > 0, "> 0")
 
 
 def nonnegative(name):
-    def check(text):
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"--{name}: {text!r} is not a number")
-        if not value >= 0:
-            raise argparse.ArgumentTypeError(f"--{name}: {value} must be >= 0")
-        return value
-    return check
+    return _checked(name, lambda v: v >= 0, ">= 0")
 
 
 def number(name):
-    def check(text):
-        try:
-            return float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"--{name}: {text!r} is not a number")
-    return check
+    return _checked(name, lambda v: v == v, "a number")
