@@ -17,7 +17,8 @@ from pydrake.systems.primitives import (
     ConstantVectorSource, MatrixGain, Multiplexer, TrajectorySource)
 
 from drake_car.law.magic_formula import MagicFormulaTyre
-from drake_car.law.tyre_contact import RadialTyre, flat_road
+from drake_car.law.road import flat
+from drake_car.law.tyre_contact import RadialTyre
 from drake_car.law.tyre_slip import SlipOptions
 from drake_car.model.car import add_car
 from drake_car.model.geometry import SIDES
@@ -61,7 +62,7 @@ class CarDiagram:
 
 def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAULT_TIME_STEP_S,
                       model_path=None, friction=None, tyres: TyreSetup | None = None,
-                      road_height=flat_road, meshcat=None, fixed_chassis=False,
+                      road_height=flat, meshcat=None, fixed_chassis=False,
                       rack_trajectory=None, drive_trajectory=None, drive_reaction="driveshaft"):
     """Builds the car's Diagram.
 
@@ -114,6 +115,7 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
         road_height, magic_formula_tyre=magic, slip=tyres.slip, combined=tyres.combined,
         time_step_s=time_step_s))
     tyre.set_name("tyres")
+    tyre.check_time_step(time_step_s, params.mass.wheel_spin_inertia_kgm2)
     builder.Connect(plant.get_body_poses_output_port(), tyre.GetInputPort("body_poses"))
     builder.Connect(plant.get_body_spatial_velocities_output_port(),
                     tyre.GetInputPort("body_spatial_velocities"))

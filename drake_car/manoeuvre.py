@@ -2,7 +2,6 @@
 rack profile (an Akima spline, the paper's ref. [1]), as Drake trajectories."""
 
 import dataclasses
-import math
 
 import numpy as np
 from pydrake.trajectories import PiecewisePolynomial

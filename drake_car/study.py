@@ -17,7 +17,6 @@ from drake_car.law.frd_friction import StrutFrictionParameters
 from drake_car.manoeuvre import Timeline
 from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
-from drake_car.settle import run_settle
 from drake_car.systems.strut_friction import StrutFrictionSetup
 
 # Paper section 4: (μs, μd); set 1 is the lubricated strut with 1250 N s/m of damping.
@@ -29,9 +28,9 @@ RUN_COLUMNS = (
     "beta_right", "mu1_right", "N_left_N", "N_right_N", "Ffric_left_N", "Ffric_right_N",
     "rot_left_rad", "rot_right_rad", "Fz_fl_N", "Fz_fr_N", "Fz_rl_N", "Fz_rr_N")
 # "Practically zero" in the paper's verdicts, made explicit: 0.1 mm of rod displacement (the
-# project's accuracy target) and 1 % of the static corner load.
+# project's accuracy target).
 DISPLACEMENT_THRESHOLD_M = 1e-4
-LOAD_THRESHOLD = 0.01
+SYMMETRY_TOLERANCE = 0.01  # of the largest |Δd|: "almost identical" curves
 
 
 def run_name(case, number):
@@ -62,11 +61,7 @@ class RunConfig:
                                           scheme=self.scheme)
 
 
-def static_overlap(time_step_s=DEFAULT_TIME_STEP_S):
-    """The overlap d of both struts at the lubricated car's static equilibrium: the reference
-    of the increments Δd (paper: "measured from ... the state of static equilibrium")."""
-    settled = run_settle(CarParameters(), duration_s=6.0, time_step_s=time_step_s)
-    return settled.strut_overlap_m
+FRICTION_CHANNELS = {"creep": "_m", "beta": "", "mu1": "", "N": "_N", "Ffric": "_N"}
 
 
 def _friction_channels(built, root):
@@ -74,8 +69,7 @@ def _friction_channels(built, root):
     for side in SIDES:
         system = built.friction.get(side)
         if system is None:
-            for key in ("creep", "beta", "mu1", "N", "Ffric"):
-                unit = {"creep": "_m", "N": "_N", "Ffric": "_N"}.get(key, "")
+            for key, unit in FRICTION_CHANNELS.items():
                 values[f"{key}_{side}{unit}"] = 0.0
             continue
         names = system.diagnostic_names()
@@ -104,8 +98,7 @@ def run_one(config: RunConfig, d_static, meshcat=None):
         out[f"dd_{side}_m"] = h[f"d_{side}_m"] - d_static[side]
         # Rod velocity relative to the cylinder (extension +), from the recorded overlap.
         out[f"v_{side}_mps"] = -np.gradient(h[f"d_{side}_m"]) / dt
-        for key in ("creep", "beta", "mu1", "N", "Ffric"):
-            unit = {"creep": "_m", "N": "_N", "Ffric": "_N"}.get(key, "")
+        for key, unit in FRICTION_CHANNELS.items():
             out[f"{key}_{side}{unit}"] = h[f"{key}_{side}{unit}"]
         out[f"rot_{side}_rad"] = h[f"rot_{side}_rad"]
     for w in ("fl", "fr", "rl", "rr"):
@@ -124,15 +117,29 @@ def places(history, timeline: Timeline):
     """Indices of place "a" (just before the lane change) and place "b" (end of the run)."""
     _, t3, _, _ = timeline.boundaries()
     t = history["t"]
-    return int(np.searchsorted(t, t3) - 1), len(t) - 1
+    return max(int(np.searchsorted(t, t3) - 1), 0), len(t) - 1
 
 
-def phase_one_return(history, timeline: Timeline, side):
-    """How far the rod moves in the second part of phase I, when the car's acceleration falls
-    back to zero, until the lane change begins (m): the paper's "return movements"."""
+def place_values(history, timeline: Timeline, column):
+    """``column`` averaged over place a (the 0.3 s before the lane change) and place b (the
+    last 0.5 s): the car still bounces on lightly damped tyres, a single sample would not do."""
+    _, t3, _, _ = timeline.boundaries()
     t = history["t"]
-    t3 = timeline.boundaries()[1]
-    window = (t >= timeline.settle_s + 0.5 * timeline.speed_up_s) & (t < t3)
+    a = (t >= t3 - 0.3) & (t < t3)
+    b = t >= t[-1] - 0.5
+    values = np.asarray(history[column])
+    if not a.any():
+        a = np.arange(len(t)) == places(history, timeline)[0]
+    return float(np.mean(values[a])), float(np.mean(values[b]))
+
+
+def phase_one_return(history, timeline: Timeline, side, blend_s=0.3):
+    """How far the rod moves once the car's acceleration falls back to zero (the last
+    ``blend_s`` of the speed-up) until the lane change begins (m): the paper's "return
+    movements" in the second part of phase I."""
+    t = history["t"]
+    t2, t3 = timeline.boundaries()[:2]
+    window = (t >= t2 - blend_s) & (t < t3)
     dd = history[f"dd_{side}_m"][window]
     return float(np.max(dd) - np.min(dd)) if dd.size else 0.0
 
@@ -165,6 +172,7 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
     mu_s = FRICTION_SETS[3][0]
     unloading = float(h3["Fz_fl_N"][at_rest] - np.min(h3["Fz_fl_N"][speed_up])) \
         if speed_up.any() else 0.0
+    capacity = mu_s * normal
     claims.append({
         "claim": "with (0.4, 0.3) the rods do not return in phase I",
         "number": f"rod movement as the acceleration ends, until the lane change: set 3 "
@@ -172,16 +180,20 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
         "value_m": high, "reproduced": bool(high <= DISPLACEMENT_THRESHOLD_M < low),
         "figure": "fig14_a.png, fig14_b.png (phase I)",
         "why": f"the strut's normal force at rest is N = {normal:.0f} N, so static friction "
-               f"holds at most μs·N = {mu_s * normal:.0f} N of axial load; the speed-up unloads "
-               f"each front wheel by {unloading:.0f} N, so the rod breaks free as the car "
-               "accelerates and again when the acceleration ends. N comes from the strut's "
-               "bending (eq. 4): ball-joint offset b and spring line set it."})
+               f"holds at most μs·N = {capacity:.0f} N of axial load, while the speed-up "
+               f"changes each front wheel's load by {unloading:.0f} N"
+               + (" (more than the friction can hold: the rod breaks free as the car "
+                  "accelerates and again when the acceleration ends)" if unloading > capacity
+                  else "") + "; N comes from the strut's bending (eq. 4), which the ball-joint "
+               "offset b and the spring line set"})
 
     # 2. After the manoeuvre, high friction leaves the rods at a new position (place b).
     shifts = {}
     for name, h in runs.items():
-        ia, ib = places(h, timeline)
-        shifts[name] = {s: float(h[f"dd_{s}_m"][ib] - h[f"dd_{s}_m"][ia]) for s in SIDES}
+        shifts[name] = {}
+        for s in SIDES:
+            at_a, at_b = place_values(h, timeline, f"dd_{s}_m")
+            shifts[name][s] = at_b - at_a
     new_position = max(abs(v) for c in CASES for v in shifts[run_name(c, 3)].values())
     claims.append({
         "claim": "with (0.4, 0.3) the rods stop at a new position after the manoeuvre "
@@ -190,14 +202,16 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
         "value_m": new_position, "reproduced": bool(new_position > DISPLACEMENT_THRESHOLD_M),
         "figure": "fig14_*.png, fig15_*.png (places a and b)"})
 
-    # 3. Left-right difference at b: nearly zero, so no lasting wheel-load change.
+    # 3. Left-right difference at b: nearly zero, so no lasting wheel-load change. The verdict
+    # is on the rods (the paper's criterion); the load split it causes is reported beside.
     worst_diff, worst_load = 0.0, 0.0
     details = {}
     for name, h in runs.items():
-        ia, ib = places(h, timeline)
-        diff = float((h["dd_left_m"][ib] - h["dd_right_m"][ib])
-                     - (h["dd_left_m"][ia] - h["dd_right_m"][ia]))
-        split = float((h["Fz_fl_N"][ib] - h["Fz_fr_N"][ib]) - (h["Fz_fl_N"][ia] - h["Fz_fr_N"][ia]))
+        left = place_values(h, timeline, "dd_left_m")
+        right = place_values(h, timeline, "dd_right_m")
+        fl, fr = place_values(h, timeline, "Fz_fl_N"), place_values(h, timeline, "Fz_fr_N")
+        diff = (left[1] - right[1]) - (left[0] - right[0])
+        split = (fl[1] - fr[1]) - (fl[0] - fr[0])
         relative = abs(split) / (0.5 * (static_loads["fl"] + static_loads["fr"]))
         details[name] = {"left_minus_right_change_m": diff, "front_load_split_change_N": split,
                          "front_load_split_change_rel": relative}
@@ -207,28 +221,34 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
         "claim": "the left-right rod difference after the manoeuvre is practically zero: "
                  "no lasting change of the wheel-load distribution",
         "number": f"largest change of Δd_left - Δd_right from a to b {1e3 * worst_diff:.3f} mm; "
-                  f"largest change of the front left-right load split "
+                  f"the front left-right load split changes by up to "
                   f"{100 * worst_load:.2f} % of the corner load",
-        "value_m": worst_diff, "reproduced": bool(worst_load < LOAD_THRESHOLD),
+        "value_m": worst_diff, "reproduced": bool(worst_diff <= DISPLACEMENT_THRESHOLD_M),
         "figure": "wheel_loads.png", "per_run": details,
         "why": "after the lane change the dry struts stick at different extensions left and "
-               "right; the split of the front wheel loads follows through the coil springs: "
+               "right, and the coil springs carry the difference into the wheel loads: "
                + "; ".join(f"{n}: Δd_L-Δd_R {1e3 * d['left_minus_right_change_m']:+.2f} mm, "
-                           f"load split {d['front_load_split_change_N']:+.0f} N"
+                           f"load split {d['front_load_split_change_N']:+.0f} N "
+                           f"({100 * d['front_load_split_change_rel']:.2f} %)"
                            for n, d in sorted(details.items()))})
 
-    # 4. Symmetry: Fig. 14a (left strut, case a) ≈ Fig. 15b (right strut, case b).
+    # 4. Symmetry: Fig. 14a ≈ Fig. 15b and 14b ≈ 15a. The car is mirror-symmetric, so the
+    # difference is numerical (stick-slip amplifies round-off into different stick positions);
+    # "almost identical" made explicit: within 1 % of the largest |Δd|.
     worst_sym, peak = 0.0, 0.0
     for n in FRICTION_SETS:
         a, b = runs[run_name("a", n)], runs[run_name("b", n)]
-        worst_sym = max(worst_sym, float(np.max(np.abs(a["dd_left_m"] - b["dd_right_m"]))))
-        peak = max(peak, float(np.max(np.abs(a["dd_left_m"]))))
+        for side, other in (("left", "right"), ("right", "left")):
+            worst_sym = max(worst_sym, float(np.max(np.abs(a[f"dd_{side}_m"]
+                                                            - b[f"dd_{other}_m"]))))
+        peak = max(peak, float(np.max(np.abs(a["dd_left_m"]))),
+                   float(np.max(np.abs(a["dd_right_m"]))))
     claims.append({
         "claim": "Fig. 14a ≈ Fig. 15b and 14b ≈ 15a (the car is symmetric)",
-        "number": f"largest |Δd_left(a) - Δd_right(b)| {1e3 * worst_sym:.4f} mm "
+        "number": f"largest |Δd(a, side) - Δd(b, other side)| {1e3 * worst_sym:.4f} mm "
                   f"(peak |Δd| {1e3 * peak:.1f} mm)",
-        "value_m": worst_sym, "reproduced": bool(worst_sym <= max(0.05 * peak, 1e-6)),
-        "figure": "fig14_a.png vs fig15_b.png"})
+        "value_m": worst_sym, "reproduced": bool(worst_sym <= SYMMETRY_TOLERANCE * peak),
+        "figure": "fig14_a.png vs fig15_b.png, fig14_b.png vs fig15_a.png"})
 
     # 5. Rod rotation stays below 3 deg.
     rotation = max(float(np.max(np.abs(h[f"rot_{s}_rad"]))) for h in runs.values()

@@ -1,6 +1,7 @@
-"""The project's main job (so far): the car, its kinematics, and phase I of the paper's study.
+"""The car checked: settling, kinematics, and the settling part of phase I of the paper's study
+(the paper's study itself is experiments/lane_change.py).
 
-Runs, into one output folder (default results/):
+Runs, into one output folder (default results/car/):
   settle/          the lubricated car settling from its design position (settle.json, plots)
   kinematics/      the kinematics rig (kinematics.csv, steering.csv, plots)
   phase_I.csv/png  the rod displacement Δd while the car settles, for the paper's three friction
@@ -8,8 +9,6 @@ Runs, into one output folder (default results/):
   diagram.svg      the car's Diagram with strut friction (Graphviz)
   car.html         the car settling with μs = 0.4, recorded in Meshcat (self-contained page)
   report.md        the figures, how they were made, and where to look
-
-The lane change (phases II-IV) follows in later work.
 """
 
 import sys
@@ -25,28 +24,21 @@ import settle as settle_script
 import suspension_kinematics as kinematics_script
 from drake_car.assembly import build_car_diagram
 from drake_car.kinematics_rig import run_kinematics_sweep
-from drake_car.law.frd_friction import StrutFrictionParameters
 from drake_car.model.parameters import CarParameters
 from drake_car.outputs import Progress, output_folder, provenance, write_csv, write_json
 from drake_car.pictures import record_html, start_meshcat, write_diagram_svg
 from drake_car.settle import run_settle
-from drake_car.systems.strut_friction import StrutFrictionSetup
-
-FRICTION_SETS = {1: (0.0, 0.0), 2: (0.2, 0.15), 3: (0.4, 0.3)}
+from drake_car.study import FRICTION_SETS, RunConfig
 
 
-def car_for_set(number, scheme="fast"):
-    mu_s, mu_d = FRICTION_SETS[number]
-    params = CarParameters()
-    if mu_s == 0:
-        return params, None  # lubricated: no friction system, 1250 N s/m in the strut
-    params.front.strut_damping_Nspm = 0.0
-    return params, StrutFrictionSetup(StrutFrictionParameters(mu_s=mu_s, mu_d=mu_d),
-                                      scheme=scheme)
+
+def car_for_set(number):
+    """The car and strut friction of the paper's friction set ``number`` (1, 2, 3)."""
+    return RunConfig("a", number).car()
 
 
 def main():
-    p = _common.parser(__doc__, default_out=_common.REPO_ROOT / "results")
+    p = _common.parser(__doc__, default_out=_common.REPO_ROOT / "results" / "car")
     p.add_argument("--settle_s", type=_common.positive("settle_s"), default=4.0,
                    help="simulated settling time per run (s)")
     p.add_argument("--html_s", type=_common.positive("html_s"), default=1.5,

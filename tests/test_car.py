@@ -1,6 +1,5 @@
 """The car model: files, loop closure, kinematics, settling, strut friction on the car."""
 
-import math
 
 import numpy as np
 import pytest

@@ -51,15 +51,18 @@ def test_cases_a_and_b_mirror_each_other(lane_changes):
 
 
 def test_steady_cornering_understeer_gradient():
-    """A slow rack ramp at 60 km/h; K = d(δ - L r / V)/d a_y over a_y = 0.5 ... 2.5 m/s².
+    """A slow rack ramp at 60 km/h; K = d(δ - L r / V)/d a_y over a_y = 0.5 ... 2.5 m/s², δ
+    the road wheels' mean angle to the body.
 
-    Expected: understeer (K > 0). The tyres alone (bicycle model with the Magic Formula's
-    cornering stiffness at the static corner loads, no load transfer) give
-        K_tyre = m_f / (2 C_f) - m_r / (2 C_r),
-    a lower bound here: the car has no anti-roll bars and near-equal front and rear roll
-    stiffness, so lateral load transfer, the wheels' roll camber and the suspension's
-    compliances all add understeer on a front-heavy car. Passenger cars are tuned to
-    understeer by a few deg/g; 8 deg/g is beyond any production car's linear range.
+    Expected sign: understeer (K > 0). The tyres alone (bicycle model with the Magic Formula's
+    cornering stiffness at the static corner loads) give
+        K_tyre = m_f / (2 C_f) - m_r / (2 C_r) ≈ 0.5 deg/g > 0
+    for this front-heavy car (62 % on the front axle, the tyre's load sensitivity); lateral
+    load transfer, shared by the springs almost equally front and rear, changes it by less than
+    0.05 deg/g (the same axle model with the transfer). Expected size: production front-drive
+    cars are tuned to understeer by a few deg/g; K must lie between K_tyre and 8 deg/g. The
+    model's K is several times K_tyre; what adds the rest (roll camber, the suspension's
+    compliances, combined slip from the drive) is not yet attributed.
     """
     timeline = Timeline(straight_s=7.0, lane_change_s=0.1, calm_s=0.0)
     t2 = timeline.boundaries()[0]

@@ -1,6 +1,5 @@
 """The Magic Formula and the .tir reader, tested alone against the formula's own landmarks."""
 
-import dataclasses
 import math
 
 import numpy as np

@@ -7,7 +7,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from drake_car.manoeuvre import Timeline
 from drake_car.outputs import read_csv
@@ -33,7 +32,7 @@ def synthetic(case, number, *, jammed_returns=False, asymmetric_end=0.0, rotatio
     for side, s in (("left", 1.0), ("right", -1.0)):
         dd = np.where(t < TIMELINE.settle_s, 0.01 * t / TIMELINE.settle_s, 0.01)
         if number < 3 or jammed_returns:  # return movement late in phase I
-            dd = np.where(t > t2 - 0.5, 0.0, dd)
+            dd = np.where(t > t2, 0.0, dd)
         swing = np.sin(np.pi * np.clip((t - t3) / (t4 - t3), 0, 1) * 2) * 0.05 * s * sign
         end_offset = 0.0 if number == 1 else 0.004 * number
         if number > 1:

@@ -7,7 +7,8 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.multibody.plant import MultibodyPlant
 
-from drake_car.law.tyre_contact import RadialTyre, contact_point, flat_road, radial_force
+from drake_car.law.road import flat as flat_road
+from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
 from drake_car.model.car import add_car
 from drake_car.systems.tyre import WHEELS, TyreSystem
 

@@ -54,6 +54,3 @@ def radial_force(tyre: RadialTyre, deflection, deflection_rate):
     return max(0.0, tyre.radial_stiffness_Npm * deflection
                + tyre.radial_damping_Nspm * deflection_rate)
 
-
-def flat_road(x, y):
-    return 0.0

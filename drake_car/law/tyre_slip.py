@@ -8,8 +8,9 @@ Transient slip (first-order relaxation, Pacejka 2006 section 7.2): contact-patch
 u_x, u_y with
     du_x/dt = -V_sx - |V_cx| u_x / σκ,   κ' = u_x / σκ,
     du_y/dt =  V_sy - |V_cx| u_y / σα,   tan α' = u_y / σα,
-integrated exactly over a step with the slip velocities held (so the update is stable at any
-step and at standstill, where the deflections act as springs). Without relaxation, the steady
+integrated exactly over a step with the slip velocities held (the update itself is stable at
+any step; coupled to the wheels, whose spin it acts on explicitly, it needs the step limit of
+``TyreSystem.check_time_step``; at standstill the deflections act as springs). Without relaxation, the steady
 slips κ = -V_sx/|V_cx|, tan α = V_sy/|V_cx| are used, with |V_cx| floored at ``v_floor``.
 """
 
@@ -66,7 +67,7 @@ def contact_kinematics(spin_axis, centre, velocity, angular_velocity, contact,
     e_x = np.array([ex, ey, 0.0])
     e_y = np.array([-ey, ex, 0.0])
     gamma = math.asin(max(-1.0, min(1.0, az)))
-    vx, vy, vz = float(velocity[0]), float(velocity[1]), float(velocity[2])
+    vx, vy = float(velocity[0]), float(velocity[1])
     wx, wy, wz = (float(angular_velocity[0]), float(angular_velocity[1]),
                   float(angular_velocity[2]))
     rx, ry, rz = (float(contact[0] - centre[0]), float(contact[1] - centre[1]),

@@ -72,7 +72,7 @@ from pydrake.multibody.tree import PdControllerGains, PrismaticJoint, RevoluteJo
 from pydrake.systems.framework import BasicVector, LeafSystem, ValueProducer
 
 from drake_car.law.frd_friction import (
-    KINETIC, STATIC, StrutFrictionParameters, advance_creep, friction_coefficient, mu_kinetic,
+    STATIC, StrutFrictionParameters, advance_creep, friction_coefficient, mu_kinetic,
     normal_force, shape_max_slope)
 
 SCHEMES = ("fast", "reference")

@@ -9,7 +9,8 @@ from pydrake.multibody.plant import ExternallyAppliedSpatialForce
 from pydrake.systems.framework import BasicVector, LeafSystem, ValueProducer
 
 from drake_car.law.magic_formula import magic_formula
-from drake_car.law.tyre_contact import RadialTyre, contact_point, flat_road, radial_force
+from drake_car.law.road import flat
+from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
 from drake_car.law.tyre_slip import (
     SlipOptions, contact_kinematics, low_speed_weight, relax, steady_slips, transient_slips)
 
@@ -48,7 +49,7 @@ class TyreSystem(LeafSystem):
     stiff at low speed and meant for runs that start rolling.
     """
 
-    def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=flat_road, *,
+    def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=flat, *,
                  magic_formula_tyre=None, slip: SlipOptions = SlipOptions(), combined=True,
                  time_step_s=None, mirror_right=True, mirror_left=("fl", "rl")):
         super().__init__()
@@ -101,6 +102,38 @@ class TyreSystem(LeafSystem):
             "tyre_diagnostics", BasicVector(len(DIAGNOSTIC_FIELDS) * len(WHEELS)),
             self._calc_diagnostics, prerequisites_of_calc={self._solution.ticket()})
 
+    def _deflection_rate(self, point, v):
+        """dδ/dt = (rate at which the road rises under the moving wheel) - v_z."""
+        if self._road is flat:
+            return -float(v[2])
+        eps = 1e-3
+        x, y = float(point[0]), float(point[1])
+        dh_dx = (self._road(x + eps, y) - self._road(x - eps, y)) / (2 * eps)
+        dh_dy = (self._road(x, y + eps) - self._road(x, y - eps)) / (2 * eps)
+        return dh_dx * float(v[0]) + dh_dy * float(v[1]) - float(v[2])
+
+    def check_time_step(self, time_step_s, spin_inertia_kgm2):
+        """The horizontal forces act on the wheels' spin explicitly: the low-speed damping c
+        and the contact patch's longitudinal spring K_x/σκ need dt < 2 I/(c R²) and
+        dt < 2/ω, ω = R sqrt(K_x/(σκ I)). Raises ValueError past either limit."""
+        if self._mf is None:
+            return
+        radius = self._tyre.unloaded_radius_m
+        limits = []
+        if self._slip.low_speed_damping_Nspm > 0:
+            limits.append(2 * spin_inertia_kgm2
+                          / (self._slip.low_speed_damping_Nspm * radius ** 2))
+        if self._relaxed:
+            kx = magic_formula(self._mf, self._mf.FNOMIN, 0.0, 0.0, 0.0, 0.0).slip_stiffness
+            omega = radius * (kx / (self._slip.relaxation_length_long_m
+                                    * spin_inertia_kgm2)) ** 0.5
+            limits.append(2.0 / omega)
+        if limits and time_step_s > min(limits):
+            raise ValueError(
+                f"time_step_s = {time_step_s:g} s is above the tyres' explicit stability limit "
+                f"{min(limits):.2g} s (wheel spin inertia {spin_inertia_kgm2:g} kg m²); use a "
+                "smaller step")
+
     def diagnostic_names(self):
         return [f"{field}_{w}" for w in WHEELS for field in DIAGNOSTIC_FIELDS]
 
@@ -117,7 +150,7 @@ class TyreSystem(LeafSystem):
             point, deflection, _ = contact_point(centre, axis, radius, self._road)
             velocity = velocities[index]
             v = velocity.translational()
-            fz = radial_force(self._tyre, deflection, -v[2])
+            fz = radial_force(self._tyre, deflection, self._deflection_rate(point, v))
             kin = None
             if self._mf is not None:
                 kin = contact_kinematics(axis, centre, v, velocity.rotational(), point,
