@@ -13,11 +13,9 @@ import numpy as np
 
 from drake_car.assembly import DEFAULT_TIME_STEP_S, TyreSetup
 from drake_car.drive import lane_change_metrics, run_drive
-from drake_car.law.frd_friction import StrutFrictionParameters
 from drake_car.manoeuvre import Timeline
 from drake_car.model.geometry import SIDES
-from drake_car.model.parameters import CarParameters
-from drake_car.systems.strut_friction import StrutFrictionSetup
+from drake_car.scene import SCENES_DIR, load_scene, resolve
 
 # Paper section 4: (μs, μd); set 1 is the lubricated strut with 1250 N s/m of damping.
 FRICTION_SETS = {1: (0.0, 0.0), 2: (0.2, 0.15), 3: (0.4, 0.3)}
@@ -37,8 +35,15 @@ def run_name(case, number):
     return f"{case}_{number}"
 
 
+PAPER_STUDY_SCENES = SCENES_DIR / "paper_study.yaml"
+
+
 @dataclasses.dataclass
 class RunConfig:
+    """One run of the study: the car and its friction come from the run's scene in
+    scenes/paper_study.yaml (with ``scene_text`` on top); the numerical settings here (step,
+    scheme, tyre fidelity, timeline) override the scene's for sweeps."""
+
     case: str
     friction_set: int
     time_step_s: float = DEFAULT_TIME_STEP_S
@@ -46,19 +51,22 @@ class RunConfig:
     scheme: str = "fast"
     record_period_s: float = 0.01
     tyres: TyreSetup = dataclasses.field(default_factory=TyreSetup)
+    scene_text: str = ""
+    scene_file: str = str(PAPER_STUDY_SCENES)
 
     @property
     def name(self):
         return run_name(self.case, self.friction_set)
 
+    def scene(self):
+        return load_scene(self.scene_file, child=self.name, scene_text=self.scene_text)
+
     def car(self):
-        mu_s, mu_d = FRICTION_SETS[self.friction_set]
-        params = CarParameters()
-        if mu_s == 0:
-            return params, None  # lubricated: no friction system, 1250 N s/m in the strut
-        params.front.strut_damping_Nspm = 0.0  # dry strut (paper section 4)
-        return params, StrutFrictionSetup(StrutFrictionParameters(mu_s=mu_s, mu_d=mu_d),
-                                          scheme=self.scheme)
+        resolved = resolve(self.scene())
+        friction = resolved.friction
+        if friction is not None:
+            friction = dataclasses.replace(friction, scheme=self.scheme)
+        return resolved.params, friction
 
 
 FRICTION_CHANNELS = {"creep": "_m", "beta": "", "mu1": "", "N": "_N", "Ffric": "_N"}

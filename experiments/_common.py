@@ -20,6 +20,27 @@ def parser(doc, default_out=None):
     return p
 
 
+def add_scene_options(p, default=None):
+    """--scene FILE[:ENTRY] and --scene_text YAML (layered on top)."""
+    p.add_argument("--scene", default=default,
+                   help="scene file, optionally :entry (default: %(default)s)")
+    p.add_argument("--scene_text", default="",
+                   help="YAML laid over the scene, e.g. \"friction: {mu_s: 0.3}\"")
+
+
+def load_scene_option(p, args):
+    from drake_car.scene import SceneError, load_scene
+    if not args.scene and not args.scene_text:
+        return None
+    path, child = args.scene, None
+    if path and ":" in path:
+        path, child = path.rsplit(":", 1)
+    try:
+        return load_scene(path, child=child, scene_text=args.scene_text)
+    except SceneError as e:
+        p.error(str(e))
+
+
 def _checked(name, valid, requirement):
     def check(text):
         try:

@@ -17,6 +17,8 @@ import numpy as np
 from drake_car.drive import lane_change_metrics, run_drive
 from drake_car.manoeuvre import Timeline
 from drake_car.outputs import Progress, output_folder, provenance, write_csv, write_json
+from drake_car.scene import dump_scene, resolve
+from drake_car.scene_run import run_scene
 from drake_car.systems.tyre import WHEELS
 
 
@@ -26,17 +28,33 @@ def main():
     p.add_argument("--time_step_s", type=_common.positive("time_step_s"), default=1e-3)
     p.add_argument("--duration_s", type=_common.positive("duration_s"), default=None,
                    help="stop early (default: the whole timeline, 10 s)")
+    _common.add_scene_options(p)
     args = p.parse_args()
-    timeline = Timeline()
+    scene = _common.load_scene_option(p, args)
     bar = Progress(f"drive {args.case}", 100)
-    run = run_drive(args.case, time_step_s=args.time_step_s, end_time_s=args.duration_s,
-                    progress=lambda t, end: bar.update(int(100 * t / end), f"t = {t:.1f} s"))
+
+    def progress(t, end):
+        bar.update(int(100 * t / end), f"t = {t:.1f} s")
+
+    if scene is None:
+        timeline = Timeline()
+        run = run_drive(args.case, time_step_s=args.time_step_s, end_time_s=args.duration_s,
+                        progress=progress)
+    else:
+        if scene.manoeuvre.kind == "settle":
+            p.error(f"--scene {args.scene}: a settle scene; use experiments/settle.py")
+        if args.duration_s:
+            scene.simulator.end_time_s = args.duration_s
+        timeline = resolve(scene).timeline
+        run = run_scene(scene, progress=progress)
     h = run.history
     metrics = lane_change_metrics(h, timeline)
     with output_folder(args.out) as out:
         write_csv(out / "history.csv", h)
+        if scene is not None:
+            (out / "scene.yaml").write_text(dump_scene(scene))
         write_json(out / "drive.json", {
-            "case": args.case, "lane_change": metrics, "wall_s": run.wall_s,
+            "case": args.case if scene is None else scene.manoeuvre.case, "lane_change": metrics, "wall_s": run.wall_s,
             "simulated_s": float(h["t"][-1]),
             "real_time_factor": float(h["t"][-1] / run.wall_s),
             "provenance": provenance()})

@@ -28,7 +28,9 @@ from drake_car.outputs import Progress, output_folder, provenance, write_csv, wr
 from drake_car.pictures import start_meshcat, write_diagram_svg
 from drake_car.settle import run_settle
 from drake_car.model.parameters import CarParameters
+from drake_car.scene import SceneError, dump_scene
 from drake_car.study import (
+    PAPER_STUDY_SCENES,
     CASES, DISPLACEMENT_THRESHOLD_M, FRICTION_SETS, SYMMETRY_TOLERANCE, RunConfig,
     evaluate_claims, place_values, run_one)
 from drake_car.study_plots import all_figures
@@ -66,6 +68,10 @@ def main():
     p.add_argument("--no_verify", action="store_true",
                    help="skip the half-step repetition of disagreeing verdicts")
     p.add_argument("--no_html", action="store_true", help="skip the Meshcat replay")
+    p.add_argument("--scene", default=str(PAPER_STUDY_SCENES),
+                   help="the study's scenes (entries a_1 ... b_3); default: %(default)s")
+    p.add_argument("--scene_text", default="",
+                   help="YAML laid over every run's scene, e.g. \"car: {ball_joint_offset_b_m: 0.06}\"")
     args = p.parse_args()
     if args.jobs < 1:
         p.error("--jobs must be >= 1")
@@ -77,8 +83,13 @@ def main():
     start = time.perf_counter()
     settled = run_settle(CarParameters(), duration_s=6.0, time_step_s=args.time_step_s)
     d_static = settled.strut_overlap_m
-    configs = [RunConfig(case, n, time_step_s=args.time_step_s, timeline=timeline)
+    configs = [RunConfig(case, n, time_step_s=args.time_step_s, timeline=timeline,
+                         scene_text=args.scene_text, scene_file=args.scene)
                for case in CASES for n in FRICTION_SETS]
+    try:
+        scenes = {c.name: c.scene() for c in configs}
+    except SceneError as e:
+        p.error(str(e))
     progress = Progress("lane-change study", len(configs))
     results = run_all(configs, d_static, args.jobs, progress)
     runs = {name: cols for name, (cols, _) in results.items()}
@@ -98,6 +109,7 @@ def main():
         for config in configs:
             columns, info = results[config.name]
             write_csv(out / f"{config.name}.csv", columns)
+            (out / f"{config.name}.scene.yaml").write_text(dump_scene(scenes[config.name]))
             params, friction = config.car()
             write_json(out / f"{config.name}.scene.json", {
                 "run": config.name, "case": config.case, "friction_set": config.friction_set,

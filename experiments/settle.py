@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt
 from drake_car.law.frd_friction import StrutFrictionParameters
 from drake_car.model.parameters import CarParameters
 from drake_car.outputs import output_folder, provenance, write_csv, write_json
+from drake_car.scene import dump_scene, resolve
 from drake_car.settle import run_settle
 from drake_car.systems.strut_friction import StrutFrictionSetup
 
@@ -25,10 +26,19 @@ def main():
                    help="strut friction (0: lubricated strut with 1250 N s/m damping)")
     p.add_argument("--mu_d", type=_common.nonnegative("mu_d"), default=0.0)
     p.add_argument("--scheme", choices=["fast", "reference"], default="fast")
+    _common.add_scene_options(p)
     args = p.parse_args()
+    scene = _common.load_scene_option(p, args)
     params = CarParameters()
     friction = None
-    if args.mu_s > 0:
+    if scene is not None:
+        if scene.manoeuvre.kind != "settle":
+            p.error(f"--scene: {scene.name!r} is not a settle scene")
+        resolved = resolve(scene)
+        params, friction = resolved.params, resolved.friction
+        args.duration_s = resolved.end_time_s or args.duration_s
+        args.time_step_s = resolved.time_step_s
+    elif args.mu_s > 0:
         try:
             law = StrutFrictionParameters(mu_s=args.mu_s, mu_d=args.mu_d)
         except ValueError as e:
@@ -39,8 +49,11 @@ def main():
                         time_step_s=args.time_step_s)
     with output_folder(args.out) as out:
         summary = result.summary()
-        summary["friction"] = ({"mu_s": args.mu_s, "mu_d": args.mu_d, "scheme": args.scheme}
+        summary["friction"] = ({"mu_s": friction.params.mu_s, "mu_d": friction.params.mu_d,
+                                "scheme": friction.scheme}
                                if friction else "off (lubricated, 1250 N s/m)")
+        if scene is not None:
+            (out / "scene.yaml").write_text(dump_scene(scene))
         summary["provenance"] = provenance()
         write_json(out / "settle.json", summary)
         write_csv(out / "settle_history.csv", result.history)

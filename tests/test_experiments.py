@@ -15,6 +15,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def run(script, *args, check=True):
     result = subprocess.run([sys.executable, str(ROOT / "experiments" / script), *map(str, args)],
+                            cwd=ROOT,
                             capture_output=True, text=True, timeout=600)
     if check:
         assert result.returncode == 0, result.stderr[-3000:]
@@ -104,3 +105,18 @@ def test_drive_script(tmp_path):
     assert all(np.all(np.isfinite(h[c])) for c in required if c != "phase")
     for name in ("path.png", "speed.png", "wheel_loads.png", "drive.json"):
         assert (out / name).stat().st_size > 0, name
+
+
+def test_scripts_take_scenes(tmp_path):
+    out = tmp_path / "drive"
+    run("drive.py", "--out", out, "--scene", "scenes/car.yaml:bump",
+        "--scene_text", "simulator: {end_time_s: 0.2}")
+    assert "road:" in (out / "scene.yaml").read_text()
+    out = tmp_path / "settle"
+    run("settle.py", "--out", out, "--scene", "scenes/car.yaml:settle_jammed",
+        "--scene_text", "simulator: {end_time_s: 0.3}")
+    assert json.loads((out / "settle.json").read_text())["friction"]["mu_s"] == 0.4
+    bad = run("drive.py", "--out", tmp_path / "bad", "--scene", "scenes/car.yaml:straight",
+              "--scene_text", "tyres: {model: brush}", check=False)
+    assert bad.returncode == 2 and "tyres.model" in bad.stderr
+    assert not (tmp_path / "bad").exists()

@@ -1,0 +1,43 @@
+"""Runs a scene: the settling car or a drive, with only the systems the scene calls for."""
+
+from drake_car.assembly import build_car_diagram
+from drake_car.drive import rolling_radius, run_drive
+from drake_car.manoeuvre import drive_trajectory, rack_trajectory
+from drake_car.scene import Scene, resolve
+from drake_car.settle import run_settle
+
+
+def run_scene(scene: Scene, *, meshcat=None, progress=None):
+    """Simulates the scene; returns a DriveRun (drives) or a SettleResult (settle)."""
+    built = resolve(scene)
+    if scene.manoeuvre.kind == "settle":
+        return run_settle(built.params, friction=built.friction, tyres=built.tyres,
+                          road_height=built.road_height,
+                          duration_s=built.end_time_s or built.timeline.settle_s,
+                          time_step_s=built.time_step_s, record_period_s=built.record_period_s)
+    return run_drive(built.case, built.params, friction=built.friction, tyres=built.tyres,
+                     timeline=built.timeline, time_step_s=built.time_step_s,
+                     record_period_s=built.record_period_s, end_time_s=built.end_time_s,
+                     road_height=built.road_height, meshcat=meshcat, progress=progress)
+
+
+def scene_diagram(scene: Scene, meshcat=None):
+    """The scene's Diagram, built as its simulation builds it (for pictures and checks)."""
+    built = resolve(scene)
+    drive = scene.manoeuvre.kind != "settle"
+    return build_car_diagram(
+        built.params, time_step_s=built.time_step_s, friction=built.friction,
+        tyres=built.tyres, road_height=built.road_height, meshcat=meshcat,
+        rack_trajectory=(rack_trajectory(built.timeline, _profile(), built.case)
+                         if drive else None),
+        drive_trajectory=(drive_trajectory(built.timeline, rolling_radius(built.params))
+                          if drive else None))
+
+
+def _profile():
+    from drake_car.calibration import calibrated_profile
+    return calibrated_profile()
+
+
+def system_names(scene: Scene):
+    return sorted(s.get_name() for s in scene_diagram(scene).diagram.GetSystems())
