@@ -74,12 +74,7 @@ class RoadEffect:
 class Manoeuvre:
     kind: str = "lane_change"  # settle | straight | lane_change
     case: str = "a"  # a (left turn first) | b (right turn first)
-    settle_s: float = 0.8
-    speed_up_s: float = 3.0
-    straight_s: float = 1.2
-    lane_change_s: float = 2.4
-    calm_s: float = 2.6
-    speed_kph: float = 60.0
+    timeline: Timeline = dataclasses.field(default_factory=Timeline)
 
 
 @dataclasses.dataclass
@@ -205,9 +200,7 @@ def resolve(scene: Scene) -> BuiltScene:
         elif r.profile == "samples":
             road = SampledProfile(tuple(r.samples_x_m), tuple(r.samples_z_m))
         m = scene.manoeuvre
-        timeline = Timeline(settle_s=m.settle_s, speed_up_s=m.speed_up_s,
-                            straight_s=m.straight_s, lane_change_s=m.lane_change_s,
-                            calm_s=m.calm_s, speed_kph=m.speed_kph)
+        timeline = Timeline(**dataclasses.asdict(m.timeline))  # validates the loaded values
     except SceneError:
         raise
     except ValueError as e:

@@ -88,3 +88,11 @@ def test_bad_scenes_name_the_key(text, match):
 def test_missing_scene_file(tmp_path):
     with pytest.raises(SceneError, match="nowhere.yaml: scene file not found"):
         load_scene(tmp_path / "nowhere.yaml")
+
+
+def test_timeline_from_a_scene():
+    scene = load_scene(scene_text="manoeuvre: {timeline: {straight_s: 2.0, speed_kph: 50.0}}")
+    timeline = resolve(scene).timeline
+    assert timeline.straight_s == 2.0 and timeline.speed_mps == pytest.approx(50 / 3.6)
+    with pytest.raises(SceneError, match="speed_up_s"):
+        resolve(load_scene(scene_text="manoeuvre: {timeline: {speed_up_s: 0.0}}"))
