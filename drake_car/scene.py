@@ -40,6 +40,10 @@ class CarSettings:
 
 @dataclasses.dataclass
 class FrictionEffect:
+    """The strut-friction effect. The law's fields repeat StrutFrictionParameters' because that
+    dataclass is frozen (validated once, shared by the systems) and yaml_load_typed assigns
+    fields one by one; ``resolve`` builds (and so validates) the law from them."""
+
     mode: str = "off"  # off | translation | translation_rotation
     scheme: str = "fast"  # fast | reference
     mu_s: float = 0.2

@@ -33,16 +33,21 @@ def test_radial_force_never_pulls():
         RadialTyre(0.3, 0.0, 1.0)
 
 
-def test_tyre_system_alone():
+def tyres_on_the_car(road=None):
+    """The tyre system for the car's wheels, alone, with its default context."""
     plant = MultibodyPlant(time_step=1e-3)
     car = add_car(plant)
     plant.Finalize()
-    tyres = TyreSystem(car.wheel_bodies(), TYRE)
+    tyres = TyreSystem(car.wheel_bodies(), TYRE, *([] if road is None else [road]))
+    return plant, car, tyres, tyres.CreateDefaultContext()
+
+
+def test_tyre_system_alone():
+    plant, car, tyres, context = tyres_on_the_car()
     assert [tyres.get_input_port(i).get_name() for i in range(2)] == [
         "body_poses", "body_spatial_velocities"]
     assert [tyres.get_output_port(i).get_name() for i in range(2)] == [
         "tyre_forces", "tyre_loads"]
-    context = tyres.CreateDefaultContext()
     poses = [RigidTransform() for _ in range(plant.num_bodies())]
     velocities = [SpatialVelocity.Zero() for _ in range(plant.num_bodies())]
     bodies = car.wheel_bodies()
@@ -86,12 +91,8 @@ def test_road_profiles():
 def test_tyre_load_on_a_bump():
     """A wheel 2 cm above the flat road touches a 4 cm bump by 2 cm: Fz = k·0.02."""
     from drake_car.law.road import CosineBump
-    plant = MultibodyPlant(time_step=1e-3)
-    car = add_car(plant)
-    plant.Finalize()
-    bump = CosineBump(start_x_m=-0.25, length_m=0.5, height_m=0.04)
-    tyres = TyreSystem(car.wheel_bodies(), TYRE, bump)
-    context = tyres.CreateDefaultContext()
+    plant, car, tyres, context = tyres_on_the_car(
+        CosineBump(start_x_m=-0.25, length_m=0.5, height_m=0.04))
     poses = [RigidTransform() for _ in range(plant.num_bodies())]
     for w, body in car.wheel_bodies().items():
         x = 0.0 if w == "fl" else 5.0
