@@ -2,7 +2,7 @@
 
 The diagram holds only the systems asked for: no friction system unless ``friction`` is given,
 no Magic Formula unless the tyre setup asks for it, no drive servo unless a drive trajectory is
-given, no visualiser unless ``meshcat`` is given.
+given, no visualiser unless ``meshcat`` is given, no logger for a channel group not asked for.
 """
 
 import dataclasses
@@ -14,7 +14,7 @@ from pydrake.multibody.plant import (
 from pydrake.multibody.tree import PdControllerGains
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import (
-    ConstantVectorSource, MatrixGain, Multiplexer, TrajectorySource)
+    ConstantVectorSource, LogVectorOutput, MatrixGain, Multiplexer, TrajectorySource)
 
 from drake_car.law.magic_formula import MagicFormulaTyre
 from drake_car.law.road import flat
@@ -22,6 +22,7 @@ from drake_car.law.tyre_contact import RadialTyre
 from drake_car.law.tyre_slip import SlipOptions
 from drake_car.model.car import add_car
 from drake_car.model.geometry import SIDES
+from drake_car.systems.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.parameters import CarParameters
 from drake_car.systems.driveshaft import DriveshaftReaction
 from drake_car.systems.tyre import TyreSystem
@@ -32,16 +33,21 @@ DEFAULT_TIR = Path(__file__).resolve().parents[1] / "urdf" / "tyres" / "pacejka2
 # joint; 1e5 N m/rad keeps the wheel within ~0.01 rad of its command at the ~1 kN m drive torque
 # of the speed-up, and 2e3 N m s/rad over-damps the wheel's 0.6 kg m².
 DRIVE_SERVO_GAINS = PdControllerGains(p=1.0e5, d=2.0e3)
+# Channel groups a run can log: the car's (systems/channels.py), the tyres' diagnostics and the
+# strut friction's diagnostics.
+LOG_CHANNELS = tuple(CAR_CHANNELS) + ("tyres", "friction")
 
 
 @dataclasses.dataclass
 class TyreSetup:
-    """Which tyre model: ``magic_formula`` False gives the vertical part only."""
+    """Which tyre model: ``magic_formula`` False gives the vertical part only; ``linear`` uses
+    the Magic Formula tyre linearised about zero slip (``law.magic_formula.linear_tyre``)."""
 
     magic_formula: bool = True
     tir_path: Path = DEFAULT_TIR
     combined: bool = True
     slip: SlipOptions = dataclasses.field(default_factory=SlipOptions)
+    linear: bool = False
 
 
 @dataclasses.dataclass
@@ -51,10 +57,12 @@ class CarDiagram:
     scene_graph: object
     car: object
     tyre: object
-    friction: dict  # side -> StrutFriction (empty when friction is off)
+    friction: object  # the StrutFriction of both struts, or None (friction off)
     rack_command: object  # system whose output is [rack_m, rack_mps]
     drive_actuators: list
     time_step_s: float
+    loggers: dict = dataclasses.field(default_factory=dict)  # group -> VectorLogSink
+    log_columns: dict = dataclasses.field(default_factory=dict)  # group -> column names
 
     def plant_context(self, root_context):
         return self.plant.GetMyContextFromRoot(root_context)
@@ -63,7 +71,8 @@ class CarDiagram:
 def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAULT_TIME_STEP_S,
                       model_path=None, friction=None, tyres: TyreSetup | None = None,
                       road_height=flat, meshcat=None, fixed_chassis=False,
-                      rack_trajectory=None, drive_trajectory=None, drive_reaction="driveshaft"):
+                      rack_trajectory=None, drive_trajectory=None, drive_reaction="driveshaft",
+                      log_channels=(), log_period_s=0.01):
     """Builds the car's Diagram.
 
     ``friction``: None (no friction system) or a ``StrutFrictionSetup`` (both front struts).
@@ -74,7 +83,14 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     adds a servo on each front wheel (default: free-rolling wheels). ``drive_reaction``:
     "driveshaft" (the servo torque is reacted by the body, as in a front-drive car) or
     "knuckle" (reacted where the joint is, as a joint motion in Adams).
+    ``log_channels``: groups of ``LOG_CHANNELS`` to log every ``log_period_s`` by VectorLogSinks
+    named ``log_<group>`` ("friction" only when there is friction).
     """
+    unknown = [g for g in log_channels if g not in LOG_CHANNELS]
+    if unknown:
+        raise ValueError(f"log channels {unknown} unknown; choose from {LOG_CHANNELS}")
+    if log_channels and not log_period_s > 0:
+        raise ValueError(f"log_period_s = {log_period_s} must be > 0")
     if drive_reaction not in ("driveshaft", "knuckle"):
         raise ValueError(f"drive_reaction {drive_reaction!r} must be 'driveshaft' or 'knuckle'")
     if not time_step_s > 0:
@@ -113,7 +129,7 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
         RadialTyre(params.tyre.unloaded_radius_m, params.tyre.radial_stiffness_Npm,
                    params.tyre.radial_damping_Nspm),
         road_height, magic_formula_tyre=magic, slip=tyres.slip, combined=tyres.combined,
-        time_step_s=time_step_s))
+        linear=tyres.linear, time_step_s=time_step_s))
     tyre.set_name("tyres")
     tyre.check_time_step(time_step_s, params.mass.wheel_spin_inertia_kgm2)
     builder.Connect(plant.get_body_poses_output_port(), tyre.GetInputPort("body_poses"))
@@ -149,20 +165,23 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
         drive.set_name("drive_command")
         desired.append(drive.get_output_port(0))
         feedforward.append(None)
-    friction_systems = {}
-    for side, declaration in friction_declarations.items():
-        system = builder.AddSystem(friction.make_system(
-            plant, declaration, side, guide_length_l_m=params.front.guide_length_l_m))
-        system.set_name(f"strut_friction_{side}")
-        system.connect(builder, plant)
-        friction_systems[side] = system
-        actuator_groups.append((f"friction_{side}", system.num_pairs()))
-        desired.append(system.desired_state_output_port())  # None: explicit scheme, no PD
-        feedforward.append(system.actuation_output_port())
+    friction_system = None
+    if friction_declarations:
+        friction_system = builder.AddSystem(friction.make_system(
+            plant, friction_declarations, guide_length_l_m=params.front.guide_length_l_m))
+        friction_system.set_name("strut_friction")
+        friction_system.connect(builder, plant)
+        actuator_groups.append(("friction", friction_system.num_pairs()))
+        # None: the explicit scheme has no PD
+        desired.append(friction_system.desired_state_output_port())
+        feedforward.append(friction_system.actuation_output_port())
     sizes = [n for _, n in actuator_groups]
     _connect_desired_state(builder, plant, car.instance, desired, sizes)
     if any(port is not None for port in feedforward):
         _connect_actuation(builder, plant, car.instance, feedforward, sizes)
+
+    loggers, columns = _add_loggers(builder, plant, car, params, tyre, friction_system,
+                                    log_channels, log_period_s)
 
     if meshcat is not None:
         from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams, Role
@@ -172,8 +191,33 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     diagram = builder.Build()
     diagram.set_name("car")
     return CarDiagram(diagram=diagram, plant=plant, scene_graph=scene_graph, car=car, tyre=tyre,
-                      friction=friction_systems, rack_command=rack_command,
-                      drive_actuators=drive_actuators, time_step_s=time_step_s)
+                      friction=friction_system, rack_command=rack_command,
+                      drive_actuators=drive_actuators, time_step_s=time_step_s,
+                      loggers=loggers, log_columns=columns)
+
+
+def _add_loggers(builder, plant, car, params, tyre, friction, groups, period):
+    loggers, columns = {}, {}
+    car_groups = [g for g in groups if g in CAR_CHANNELS]
+    if car_groups:
+        channels = builder.AddSystem(CarChannels(plant, car, car_groups,
+                                                 params.front.guide_length_l_m))
+        channels.set_name("car_channels")
+        channels.connect(builder, plant)
+        for group in car_groups:
+            loggers[group] = LogVectorOutput(channels.GetOutputPort(group), builder, period)
+            columns[group] = list(CAR_CHANNELS[group])
+    if "tyres" in groups:
+        loggers["tyres"] = LogVectorOutput(tyre.GetOutputPort("tyre_diagnostics"), builder,
+                                           period)
+        columns["tyres"] = tyre.diagnostic_names()
+    if "friction" in groups and friction is not None:
+        loggers["friction"] = LogVectorOutput(friction.GetOutputPort("diagnostics"), builder,
+                                              period)
+        columns["friction"] = [f"friction_{name}" for name in friction.diagnostic_names()]
+    for group, logger in loggers.items():
+        logger.set_name(f"log_{group}")
+    return loggers, columns
 
 
 def _mux(builder, name, ports, sizes, width):

@@ -8,21 +8,14 @@ import time
 import numpy as np
 from pydrake.systems.analysis import Simulator
 
-from drake_car.assembly import DEFAULT_TIME_STEP_S, TyreSetup, build_car_diagram
+from drake_car.assembly import DEFAULT_TIME_STEP_S, LOG_CHANNELS, TyreSetup, build_car_diagram
 from drake_car.manoeuvre import (
     LaneChangeProfile, Timeline, drive_trajectory, rack_trajectory)  # noqa: F401
 from drake_car.law.road import flat
-from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
 from drake_car.monitor import attach_monitor, run_checked
-from drake_car.systems.tyre import WHEELS
 
 CASES = ("a", "b", "straight")
-HISTORY_COLUMNS = (
-    "t", "phase", "x_m", "y_m", "yaw_rad", "speed_mps", "rack_m", "steer_fl_deg",
-    "steer_fr_deg") + tuple(f"Fz_{w}_N" for w in WHEELS) + tuple(
-    f"Fy_{w}_N" for w in WHEELS) + tuple(f"Fx_{w}_N" for w in WHEELS) + (
-    "d_left_m", "d_right_m", "rot_left_rad", "rot_right_rad")
 
 
 def rolling_radius(params: CarParameters):
@@ -37,20 +30,33 @@ class DriveRun:
     wall_s: float
     built: object
     simulator: object
+    html: str | None = None  # the Meshcat replay, when the scene asked for one
 
 
 def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
               tyres: TyreSetup | None = None, timeline: Timeline | None = None,
               profile: LaneChangeProfile | None = None, time_step_s=DEFAULT_TIME_STEP_S,
               record_period_s=0.01, end_time_s=None, meshcat=None, progress=None,
-              extra_channels=None, rack=None, road_height=None, drive_reaction="driveshaft"):
-    """Simulates the manoeuvre; returns the history (columns ``HISTORY_COLUMNS`` plus those of
-    ``extra_channels(built, root_context) -> dict``) sampled every ``record_period_s``.
+              extra_channels=None, rack=None, road_height=None, drive_reaction="driveshaft",
+              channels=LOG_CHANNELS, realtime_rate=0.0):
+    """Simulates the manoeuvre; returns the history sampled every ``record_period_s``.
+
+    The history holds "t", "phase" and the columns of the logged ``channels`` (groups of
+    ``drake_car.assembly.LOG_CHANNELS``; each has a VectorLogSink in the diagram, a group not
+    asked for has none): chassis (x_m, y_m, yaw_rad, yaw_rate_radps, speed_mps), steering (rack_m,
+    steer_fl_deg, steer_fr_deg), struts (d_left_m, d_right_m, rot_left_rad, rot_right_rad),
+    tyres (Fx_fl_N ... vx_rr_mps, see ``TyreSystem.diagnostic_names``) and friction
+    (friction_left_translation_v ..., see ``StrutFriction.diagnostic_names``).
+    ``extra_channels(built, root_context) -> dict`` adds columns computed in Python at each
+    record time (the run then stops at every record time to call it).
     ``profile`` defaults to the calibrated lane change (scenes/lane_change_profile.json);
     ``rack`` (a PiecewisePolynomial) replaces the lane change's rack command altogether;
-    ``road_height`` is a profile of ``drake_car.law.road`` (default flat)."""
+    ``road_height`` is a profile of ``drake_car.law.road`` (default flat); ``realtime_rate``
+    > 0 paces the run (for watching it live in ``meshcat``)."""
     if case not in CASES:
         raise ValueError(f"case {case!r} must be one of {CASES}")
+    if not record_period_s > 0:
+        raise ValueError(f"record_period_s = {record_period_s} must be > 0")
     params = params or CarParameters()
     tyres = tyres or TyreSetup()
     timeline = timeline or Timeline()
@@ -61,60 +67,53 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
         params, time_step_s=time_step_s, friction=friction, tyres=tyres, meshcat=meshcat,
         road_height=road_height or flat, drive_reaction=drive_reaction,
         rack_trajectory=rack if rack is not None else rack_trajectory(timeline, profile, case),
-        drive_trajectory=drive_trajectory(timeline, rolling_radius(params)))
+        drive_trajectory=drive_trajectory(timeline, rolling_radius(params)),
+        log_channels=tuple(channels), log_period_s=record_period_s)
     simulator = Simulator(built.diagram)
+    simulator.set_target_realtime_rate(realtime_rate)
     root = simulator.get_mutable_context()
-    plant, car = built.plant, built.car
-    pc = plant.GetMyContextFromRoot(root)
-    tyre_context = built.tyre.GetMyContextFromRoot(root)
-    chassis = car.body("chassis")
-    rack = car.joint("rack_slide")
-    prismatic = {s: car.joint(f"strut_prismatic_{s}") for s in SIDES}
-    revolute = {s: car.joint(f"strut_revolute_{s}") for s in SIDES}
-    wheels = {"fl": car.body("wheel_front_left"), "fr": car.body("wheel_front_right")}
-    names = built.tyre.diagnostic_names()
-    fx_i = [names.index(f"Fx_N_{w}") for w in WHEELS]
-    fy_i = [names.index(f"Fy_N_{w}") for w in WHEELS]
-    fz_i = [names.index(f"Fz_N_{w}") for w in WHEELS]
-    l_guide = params.front.guide_length_l_m
     end = timeline.duration_s if end_time_s is None else end_time_s
     steps = int(round(end / record_period_s))
-    history = {c: [] for c in HISTORY_COLUMNS}
     attach_monitor(simulator, built)
     simulator.Initialize()
     start = time.perf_counter()
-    for k in range(steps + 1):
-        run_checked(simulator, k * record_period_s)
-        t = root.get_time()
-        pose = chassis.EvalPoseInWorld(pc)
-        rotation = pose.rotation().matrix()
-        velocity = chassis.EvalSpatialVelocityInWorld(pc).translational()
-        diag = built.tyre.GetOutputPort("tyre_diagnostics").Eval(tyre_context)
-        history["t"].append(t)
-        history["phase"].append(timeline.phase(t))
-        history["x_m"].append(pose.translation()[0])
-        history["y_m"].append(pose.translation()[1])
-        history["yaw_rad"].append(math.atan2(rotation[1, 0], rotation[0, 0]))
-        history["speed_mps"].append(math.hypot(velocity[0], velocity[1]))
-        history["rack_m"].append(rack.get_translation(pc))
-        for w, body in wheels.items():
-            axis = rotation.T @ body.EvalPoseInWorld(pc).rotation().matrix()[:, 1]
-            history[f"steer_{w}_deg"].append(math.degrees(math.atan2(-axis[0], axis[1])))
-        for i, w in enumerate(WHEELS):
-            history[f"Fz_{w}_N"].append(diag[fz_i[i]])
-            history[f"Fy_{w}_N"].append(diag[fy_i[i]])
-            history[f"Fx_{w}_N"].append(diag[fx_i[i]])
-        for s in SIDES:
-            history[f"d_{s}_m"].append(l_guide - prismatic[s].get_translation(pc))
-            history[f"rot_{s}_rad"].append(revolute[s].get_angle(pc))
-        if extra_channels is not None:
+    extra = {}
+    if extra_channels is not None:
+        for k in range(steps + 1):
+            run_checked(simulator, k * record_period_s)
             for key, value in extra_channels(built, root).items():
-                history.setdefault(key, []).append(value)
-        if progress is not None and k % max(1, steps // 20) == 0:
-            progress(t, end)
+                extra.setdefault(key, []).append(value)
+            if progress is not None and k % max(1, steps // 20) == 0:
+                progress(root.get_time(), end)
+    else:
+        chunks = 20 if progress is not None else 1
+        for k in range(1, chunks + 1):
+            run_checked(simulator, steps * record_period_s * k / chunks)
+            if progress is not None:
+                progress(root.get_time(), end)
     wall = time.perf_counter() - start
-    history = {k: (np.asarray(v) if k != "phase" else list(v)) for k, v in history.items()}
+    history = logged_history(built, root)
+    if "t" not in history:
+        history["t"] = np.arange(steps + 1) * record_period_s
+    for key, values in extra.items():
+        history[key] = np.asarray(values)
+    history["phase"] = [timeline.phase(t) for t in history["t"]]
     return DriveRun(history=history, wall_s=wall, built=built, simulator=simulator)
+
+
+def logged_history(built, root_context):
+    """Columns of every logger of ``built`` (a CarDiagram), with their sample times "t"."""
+    history = {}
+    for group, logger in built.loggers.items():
+        log = logger.FindLog(root_context)
+        times = log.sample_times()
+        if "t" in history and not np.array_equal(history["t"], times):
+            raise RuntimeError(f"logger of {group} sampled at other times than the others")
+        history["t"] = np.array(times)
+        data = log.data()
+        for row, name in enumerate(built.log_columns[group]):
+            history[name] = np.array(data[row])
+    return history
 
 
 def lane_change_metrics(history, timeline: Timeline):

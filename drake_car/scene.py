@@ -13,7 +13,7 @@ from pathlib import Path
 
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 
-from drake_car.assembly import DEFAULT_TIR, TyreSetup
+from drake_car.assembly import DEFAULT_TIR, LOG_CHANNELS, TyreSetup
 from drake_car.law.frd_friction import StrutFrictionParameters
 from drake_car.law.road import CosineBump, SampledProfile, flat
 from drake_car.law.tyre_slip import SlipOptions
@@ -58,7 +58,7 @@ class FrictionEffect:
 
 @dataclasses.dataclass
 class TyreEffect:
-    model: str = "magic_formula"  # magic_formula | vertical
+    model: str = "magic_formula"  # magic_formula | linear (MF linearised at zero slip) | vertical
     combined_slip: bool = True
     relaxation: bool = True
     tir_file: str = str(DEFAULT_TIR.relative_to(REPO_ROOT))
@@ -89,8 +89,22 @@ class SimulatorSettings:
 
 
 @dataclasses.dataclass
+class Logging:
+    """Channel groups logged every ``simulator.record_period_s`` (drives; a settle records its
+    own few quantities): chassis, steering, struts, tyres, friction. A group not listed has no
+    logger in the Diagram."""
+
+    channels: typing.List[str] = dataclasses.field(default_factory=lambda: list(LOG_CHANNELS))
+
+
+@dataclasses.dataclass
 class Visualization:
-    mode: str = "none"  # none | meshcat_html
+    """none: no visualiser in the Diagram; meshcat_live: a Meshcat server on localhost (its URL
+    is printed) shows the run as it goes, paced at ``realtime_rate`` (0: as fast as it can);
+    meshcat_html: the run is recorded and saved as a self-contained replay page."""
+
+    mode: str = "none"  # none | meshcat_live | meshcat_html
+    realtime_rate: float = 1.0  # meshcat_live only
 
 
 @dataclasses.dataclass
@@ -102,6 +116,7 @@ class Scene:
     road: RoadEffect = dataclasses.field(default_factory=RoadEffect)
     manoeuvre: Manoeuvre = dataclasses.field(default_factory=Manoeuvre)
     simulator: SimulatorSettings = dataclasses.field(default_factory=SimulatorSettings)
+    logging: Logging = dataclasses.field(default_factory=Logging)
     visualization: Visualization = dataclasses.field(default_factory=Visualization)
 
 
@@ -110,11 +125,11 @@ CHOICES = {
     ("friction", "scheme"): ("fast", "reference"),
     ("friction", "shape"): ("cubic", "linear"),
     ("friction", "normal_force_form"): ("vector", "magnitude_sum", "contact_pair"),
-    ("tyres", "model"): ("magic_formula", "vertical"),
+    ("tyres", "model"): ("magic_formula", "linear", "vertical"),
     ("road", "profile"): ("flat", "bump", "samples"),
     ("manoeuvre", "kind"): ("settle", "straight", "lane_change"),
     ("manoeuvre", "case"): ("a", "b"),
-    ("visualization", "mode"): ("none", "meshcat_html"),
+    ("visualization", "mode"): ("none", "meshcat_live", "meshcat_html"),
 }
 
 
@@ -151,6 +166,14 @@ def validate(scene: Scene, where="scene"):
             raise SceneError(f"{where}: simulator.{key} must be > 0")
     if scene.simulator.end_time_s < 0:
         raise SceneError(f"{where}: simulator.end_time_s must be >= 0")
+    if not scene.visualization.realtime_rate >= 0:
+        raise SceneError(f"{where}: visualization.realtime_rate must be >= 0")
+    for channel in scene.logging.channels:
+        if channel not in LOG_CHANNELS:
+            raise SceneError(f"{where}: logging.channels: {channel!r} must be one of "
+                             f"{LOG_CHANNELS}")
+    if len(set(scene.logging.channels)) != len(scene.logging.channels):
+        raise SceneError(f"{where}: logging.channels {scene.logging.channels} repeats a group")
     return scene
 
 
@@ -171,6 +194,7 @@ class BuiltScene:
     time_step_s: float
     end_time_s: float | None
     record_period_s: float
+    log_channels: tuple = LOG_CHANNELS
 
 
 def resolve(scene: Scene) -> BuiltScene:
@@ -194,9 +218,10 @@ def resolve(scene: Scene) -> BuiltScene:
             friction = StrutFrictionSetup(law, scheme=f.scheme,
                                           rotation=f.mode == "translation_rotation")
         t = scene.tyres
-        tyres = TyreSetup(magic_formula=t.model == "magic_formula",
+        tyres = TyreSetup(magic_formula=t.model != "vertical",
                           tir_path=REPO_ROOT / t.tir_file, combined=t.combined_slip,
-                          slip=SlipOptions(relaxation=t.relaxation))
+                          slip=SlipOptions(relaxation=t.relaxation),
+                          linear=t.model == "linear")
         r = scene.road
         road = flat
         if r.profile == "bump":
@@ -212,7 +237,8 @@ def resolve(scene: Scene) -> BuiltScene:
     case = "straight" if m.kind == "straight" else m.case
     end = scene.simulator.end_time_s or None
     return BuiltScene(params, friction, tyres, road, timeline, case,
-                      scene.simulator.time_step_s, end, scene.simulator.record_period_s)
+                      scene.simulator.time_step_s, end, scene.simulator.record_period_s,
+                      tuple(scene.logging.channels))
 
 
 def shipped_scenes():

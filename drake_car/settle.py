@@ -31,7 +31,10 @@ class SettleResult:
     def summary(self):
         data = dataclasses.asdict(self)
         data.pop("history")
+        data.pop("html")
         return data
+
+    html: str | None = None  # the Meshcat replay, when the scene asked for one
 
 
 def ride_heights(car, plant_context):
@@ -46,14 +49,15 @@ def ride_heights(car, plant_context):
 
 def run_settle(params: CarParameters | None = None, *, friction=None, duration_s=5.0,
                time_step_s=DEFAULT_TIME_STEP_S, record_period_s=0.01, tyres=None,
-               road_height=None) -> SettleResult:
+               road_height=None, meshcat=None, realtime_rate=0.0) -> SettleResult:
     """Lets the car settle from its design position; returns loads, heights, overlaps."""
     params = params or CarParameters()
     kwargs = {} if road_height is None else {"road_height": road_height}
     built = build_car_diagram(params, time_step_s=time_step_s, friction=friction, tyres=tyres,
-                              **kwargs)
+                              meshcat=meshcat, **kwargs)
     plant, car = built.plant, built.car
     simulator = Simulator(built.diagram)
+    simulator.set_target_realtime_rate(realtime_rate)
     root = simulator.get_mutable_context()
     pc = plant.GetMyContextFromRoot(root)
     tyre_context = built.tyre.GetMyContextFromRoot(root)

@@ -69,25 +69,11 @@ class RunConfig:
         return resolved.params, friction
 
 
-FRICTION_CHANNELS = {"creep": "_m", "beta": "", "mu1": "", "N": "_N", "Ffric": "_N"}
-
-
-def _friction_channels(built, root):
-    values = {}
-    for side in SIDES:
-        system = built.friction.get(side)
-        if system is None:
-            for key, unit in FRICTION_CHANNELS.items():
-                values[f"{key}_{side}{unit}"] = 0.0
-            continue
-        names = system.diagnostic_names()
-        d = system.GetOutputPort("diagnostics").Eval(system.GetMyContextFromRoot(root))
-        values[f"creep_{side}_m"] = d[names.index("translation_creep")]
-        values[f"beta_{side}"] = d[names.index("translation_beta")]
-        values[f"mu1_{side}"] = d[names.index("translation_mu1")]
-        values[f"N_{side}_N"] = d[names.index("translation_N")]
-        values[f"Ffric_{side}_N"] = d[names.index("translation_friction")]
-    return values
+# What a study run logs (all of it: the figures and the claims use every group).
+STUDY_CHANNELS = ("chassis", "steering", "struts", "tyres", "friction")
+# Run columns from the friction's logged diagnostics (translation pair): name -> field.
+FRICTION_CHANNELS = {"creep_{side}_m": "creep", "beta_{side}": "beta", "mu1_{side}": "mu1",
+                     "N_{side}_N": "N", "Ffric_{side}_N": "friction"}
 
 
 def run_one(config: RunConfig, d_static, meshcat=None):
@@ -97,7 +83,7 @@ def run_one(config: RunConfig, d_static, meshcat=None):
     run = run_drive(config.case, params, friction=friction, tyres=config.tyres,
                     timeline=config.timeline, time_step_s=config.time_step_s,
                     record_period_s=config.record_period_s, meshcat=meshcat,
-                    extra_channels=_friction_channels)
+                    channels=STUDY_CHANNELS)
     wall = time.perf_counter() - start
     h = run.history
     out = {c: h[c] for c in ("t", "phase", "rack_m", "x_m", "y_m", "yaw_rad", "speed_mps")}
@@ -106,8 +92,10 @@ def run_one(config: RunConfig, d_static, meshcat=None):
         out[f"dd_{side}_m"] = h[f"d_{side}_m"] - d_static[side]
         # Rod velocity relative to the cylinder (extension +), from the recorded overlap.
         out[f"v_{side}_mps"] = -np.gradient(h[f"d_{side}_m"]) / dt
-        for key, unit in FRICTION_CHANNELS.items():
-            out[f"{key}_{side}{unit}"] = h[f"{key}_{side}{unit}"]
+        for column, field in FRICTION_CHANNELS.items():
+            # Friction off: no friction system, no log; the law's quantities are zero.
+            out[column.format(side=side)] = h.get(f"friction_{side}_translation_{field}",
+                                                  np.zeros_like(h["t"]))
         out[f"rot_{side}_rad"] = h[f"rot_{side}_rad"]
     for w in ("fl", "fr", "rl", "rr"):
         out[f"Fz_{w}_N"] = h[f"Fz_{w}_N"]

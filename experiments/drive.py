@@ -4,7 +4,8 @@ b: right turn first; the calibrated Akima rack profile) and calms down; ~10 s in
 
 Writes DIR/history.csv (t, phase, x_m, y_m, yaw_rad, speed_mps, rack_m, steer_fl_deg,
 steer_fr_deg, Fz_*, Fy_*, Fx_* [N, per wheel fl fr rl rr], d_*_m, rot_*_rad), DIR/drive.json
-(lane-change metrics, wall time, provenance), DIR/path.png, DIR/speed.png, DIR/wheel_loads.png.
+(lane-change metrics, wall time, provenance), DIR/path.png, DIR/speed.png, DIR/wheel_loads.png,
+and with a scene: DIR/scene.yaml, and DIR/replay.html if the scene asks for meshcat_html.
 
 Example:  python experiments/drive.py --out results/drive_a --case a
 """
@@ -53,6 +54,8 @@ def main():
         write_csv(out / "history.csv", h)
         if scene is not None:
             (out / "scene.yaml").write_text(dump_scene(scene))
+        if run.html is not None:  # the scene asked for visualization: meshcat_html
+            (out / "replay.html").write_text(run.html)
         write_json(out / "drive.json", {
             "case": args.case if scene is None else scene.manoeuvre.case, "lane_change": metrics, "wall_s": run.wall_s,
             "simulated_s": float(h["t"][-1]),

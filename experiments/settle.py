@@ -1,7 +1,8 @@
 """The car settles under gravity from its design position.
 
 Writes DIR/settle.json (corner_loads_N, ride_height_m, strut_overlap_m, design_axle_loads_N,
-total_mass_kg, ...), DIR/settle_history.csv and DIR/settle.png.
+total_mass_kg, ...), DIR/settle_history.csv and DIR/settle.png; with --scene also
+DIR/scene.yaml, and DIR/replay.html if the scene asks for visualization meshcat_html.
 
 Example:  python experiments/settle.py --out results/settle
 """
@@ -14,6 +15,7 @@ from drake_car.law.frd_friction import StrutFrictionParameters
 from drake_car.model.parameters import CarParameters
 from drake_car.outputs import output_folder, provenance, write_csv, write_json
 from drake_car.scene import dump_scene, resolve
+from drake_car.scene_run import run_scene
 from drake_car.settle import run_settle
 from drake_car.systems.strut_friction import StrutFrictionSetup
 
@@ -35,18 +37,18 @@ def main():
         if scene.manoeuvre.kind != "settle":
             p.error(f"--scene: {scene.name!r} is not a settle scene")
         resolved = resolve(scene)
-        params, friction = resolved.params, resolved.friction
-        args.duration_s = resolved.end_time_s or args.duration_s
-        args.time_step_s = resolved.time_step_s
-    elif args.mu_s > 0:
-        try:
-            law = StrutFrictionParameters(mu_s=args.mu_s, mu_d=args.mu_d)
-        except ValueError as e:
-            p.error(str(e))
-        friction = StrutFrictionSetup(law, scheme=args.scheme)
-        params.front.strut_damping_Nspm = 0.0  # dry strut (paper section 4)
-    result = run_settle(params, friction=friction, duration_s=args.duration_s,
-                        time_step_s=args.time_step_s)
+        friction = resolved.friction
+        result = run_scene(scene)
+    else:
+        if args.mu_s > 0:
+            try:
+                law = StrutFrictionParameters(mu_s=args.mu_s, mu_d=args.mu_d)
+            except ValueError as e:
+                p.error(str(e))
+            friction = StrutFrictionSetup(law, scheme=args.scheme)
+            params.front.strut_damping_Nspm = 0.0  # dry strut (paper section 4)
+        result = run_settle(params, friction=friction, duration_s=args.duration_s,
+                            time_step_s=args.time_step_s)
     with output_folder(args.out) as out:
         summary = result.summary()
         summary["friction"] = ({"mu_s": friction.params.mu_s, "mu_d": friction.params.mu_d,
@@ -54,6 +56,8 @@ def main():
                                if friction else "off (lubricated, 1250 N s/m)")
         if scene is not None:
             (out / "scene.yaml").write_text(dump_scene(scene))
+        if result.html is not None:  # the scene asked for visualization: meshcat_html
+            (out / "replay.html").write_text(result.html)
         summary["provenance"] = provenance()
         write_json(out / "settle.json", summary)
         write_csv(out / "settle_history.csv", result.history)

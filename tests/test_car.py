@@ -132,7 +132,8 @@ def test_normal_force_matches_reaction():
     pc = plant.GetMyContextFromRoot(root)
     reactions = plant.get_reaction_forces_output_port().Eval(pc)
     world = plant.world_frame()
-    for side, system in built.friction.items():
+    system = built.friction
+    for side in SIDES:
         prismatic = car.joint(f"strut_prismatic_{side}")
         reaction = reactions[int(prismatic.index())]
         X_WJc = prismatic.frame_on_child().CalcPoseInWorld(pc)
@@ -153,11 +154,11 @@ def test_normal_force_matches_reaction():
         diagnostics = system.GetOutputPort("diagnostics").Eval(system.GetMyContextFromRoot(root))
         names = system.diagnostic_names()
         assert expected > 100.0, f"{side}: the strut should carry a transverse load"
-        assert_allclose(diagnostics[names.index("translation_N")], expected, rtol=1e-9,
+        assert_allclose(diagnostics[names.index(f"{side}_translation_N")], expected, rtol=1e-9,
                         err_msg=side)
         # The settled car's rotation pair is stuck: static phase, |ω| within the threshold.
-        assert diagnostics[names.index("rotation_phase")] == 0.0, side
-        assert abs(diagnostics[names.index("rotation_v")]) <= system_law().dv_rotation_radps
+        assert diagnostics[names.index(f"{side}_rotation_phase")] == 0.0, side
+        assert abs(diagnostics[names.index(f"{side}_rotation_v")]) <= system_law().dv_rotation_radps
 
 
 # -- bad input ------------------------------------------------------------------------------

@@ -70,20 +70,16 @@ def test_steady_cornering_understeer_gradient():
     rack = PiecewisePolynomial.FirstOrderHold([0.0, start, start + ramp],
                                               np.array([[0.0, 0.0, 0.005]]))
 
-    def yaw_rate(built, root):
-        pc = built.plant.GetMyContextFromRoot(root)
-        return {"yaw_rate": built.car.body("chassis").EvalSpatialVelocityInWorld(
-            pc).rotational()[2]}
-
     h = run_drive("straight", timeline=timeline, rack=rack, end_time_s=start + ramp,
-                  record_period_s=0.02, extra_channels=yaw_rate).history
+                  record_period_s=0.02).history
     params = CarParameters()
-    speed, rate = h["speed_mps"], h["yaw_rate"]
+    speed, rate = h["speed_mps"], h["yaw_rate_radps"]
     lateral = speed * rate
     steer = np.radians(0.5 * (h["steer_fl_deg"] + h["steer_fr_deg"]))
     use = (h["t"] > start) & (lateral > 0.5) & (lateral < 2.5)
     assert use.sum() > 50
-    gradient = np.polyfit(lateral[use], (steer - params.wheelbase_m * rate / speed)[use], 1)[0]
+    speed, rate, lateral, steer = speed[use], rate[use], lateral[use], steer[use]
+    gradient = np.polyfit(lateral, steer - params.wheelbase_m * rate / speed, 1)[0]
     loads = params.design_axle_loads_N()
     tyre = MagicFormulaTyre.from_file(DEFAULT_TIR)
     c_front = abs(magic_formula(tyre, loads["front"] / 2, 0, 0, 0, 16.7).cornering_stiffness)

@@ -77,7 +77,7 @@ def test_main_study_writes_report_and_pictures(tmp_path):
                  "settle/settle.json", "kinematics/kinematics.csv"):
         assert (out / name).stat().st_size > 0, name
     assert "<svg" in (out / "diagram.svg").read_text()[:2000]
-    assert "strut_friction_left" in (out / "diagram.svg").read_text()
+    assert "strut_friction" in (out / "diagram.svg").read_text()
     assert "<html" in (out / "car.html").read_text()[:5000].lower()
     phase = read_csv(out / "phase_I.csv")
     assert all(np.all(np.isfinite(v)) for v in phase.values())

@@ -7,7 +7,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from drake_car.assembly import DEFAULT_TIR
-from drake_car.law.magic_formula import REQUIRED, MagicFormulaTyre, magic_formula
+from drake_car.law.magic_formula import REQUIRED, MagicFormulaTyre, linear_tyre, magic_formula
 from drake_car.law.tir import TirFileError, format_tir, parse_tir, read_tir
 
 TYRE = MagicFormulaTyre.from_file(DEFAULT_TIR)
@@ -130,3 +130,25 @@ def test_tir_missing_coefficient_and_file(tmp_path):
 def test_comments_and_strings_parse():
     values, _ = parse_tir("$ header\n[MODEL]\nNAME = 'a $ b' ! note\nLONGVL = 16.7 $ m/s\n")
     assert values == {"NAME": "a $ b", "LONGVL": 16.7}
+
+
+def test_linear_tyre_is_the_magic_formula_to_first_order():
+    """The linear tyre shares the Magic Formula's value and slope at zero slip, so their
+    difference is O(ε²) in the slips: halving ε divides it by about 4 (at least 3 allows for
+    the ε³ term). Away from zero slip it does not saturate."""
+    tyre = MagicFormulaTyre.from_file(DEFAULT_TIR)
+    fz, gamma, vx = 3800.0, 0.01, 16.0
+
+    def difference(eps):
+        mf = magic_formula(tyre, fz, eps, eps, gamma, vx, combined=False)
+        lin = linear_tyre(tyre, fz, eps, eps, gamma, vx)
+        return np.array([mf.fx - lin.fx, mf.fy - lin.fy, mf.mz - lin.mz])
+
+    coarse, fine = np.abs(difference(5e-3)), np.abs(difference(2.5e-3))
+    assert np.all(coarse / fine >= 3.0), coarse / fine
+    at_zero = magic_formula(tyre, fz, 0.0, 0.0, gamma, vx, combined=False)
+    lin = linear_tyre(tyre, fz, 0.0, 0.0, gamma, vx)
+    assert (lin.fx, lin.fy, lin.mz, lin.my) == (at_zero.fx, at_zero.fy, at_zero.mz, at_zero.my)
+    peak = max(abs(magic_formula(tyre, fz, 0.0, a, gamma, vx).fy) for a in np.radians(
+        np.arange(1.0, 20.0)))
+    assert abs(linear_tyre(tyre, fz, 0.0, np.radians(15.0), gamma, vx).fy) > 2 * peak

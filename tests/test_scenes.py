@@ -3,6 +3,7 @@ each shipped scene."""
 
 import numpy as np
 import pytest
+from numpy.testing import assert_allclose
 
 from drake_car.scene import (
     SceneError, dump_scene, load_scene, resolve, shipped_scenes)
@@ -13,7 +14,7 @@ SCENES = shipped_scenes()
 BASE = {"plant", "scene_graph", "tyres"}
 DRIVE = {"rack_command_akima", "drive_command", "driveshafts", "applied_forces",
          "desired_state_mux", "desired_state_order"}
-FRICTION = {"strut_friction_left", "strut_friction_right", "actuation_mux",
+FRICTION = {"strut_friction", "actuation_mux",
             "actuation_mux_zeros_0"}
 
 
@@ -26,6 +27,15 @@ def expected_systems(scene):
         names |= FRICTION | ({"actuation_mux_zeros_1"} if drive else set())
         if not drive:
             names |= {"desired_state_mux", "desired_state_order"}
+    if drive:  # one logger per channel group asked for (a settle records its own few values)
+        channels = set(scene.logging.channels)
+        if scene.friction.mode == "off":
+            channels.discard("friction")
+        names |= {f"log_{group}" for group in channels}
+        if channels & {"chassis", "steering", "struts"}:
+            names.add("car_channels")
+    if scene.visualization.mode != "none":
+        names.add("meshcat_visualizer(visualizer)")
     return names
 
 
@@ -96,3 +106,46 @@ def test_timeline_from_a_scene():
     assert timeline.straight_s == 2.0 and timeline.speed_mps == pytest.approx(50 / 3.6)
     with pytest.raises(SceneError, match="speed_up_s"):
         resolve(load_scene(scene_text="manoeuvre: {timeline: {speed_up_s: 0.0}}"))
+
+
+@pytest.mark.parametrize("channels, columns", [
+    ("[chassis]", {"x_m", "y_m", "yaw_rad", "yaw_rate_radps", "speed_mps"}),
+    ("[struts, friction]", {"d_left_m", "d_right_m", "rot_left_rad", "rot_right_rad"} | {
+        f"friction_{side}_{kind}_{field}" for side in ("left", "right")
+        for kind in ("translation", "rotation")
+        for field in ("v", "creep", "beta", "mu1", "mu", "phase", "N", "friction")}),
+    ("[]", set()),
+])
+def test_a_channel_not_logged_has_no_logger(channels, columns):
+    text = (f"logging: {{channels: {channels}}}\n"
+            "friction: {mode: translation_rotation, mu_s: 0.4, mu_d: 0.3}\n"
+            "simulator: {end_time_s: 0.05}")
+    scene = load_scene(SCENES[0][0].parent / "car.yaml", child="straight", scene_text=text)
+    names = set(system_names(scene))
+    assert names == expected_systems(scene)
+    assert {n for n in names if n.startswith("log_")} == {
+        f"log_{g}" for g in scene.logging.channels}
+    history = run_scene(scene).history
+    assert set(history) == columns | {"t", "phase"}
+    assert_allclose(history["t"], np.arange(6) * 0.01, atol=1e-12)
+
+
+def test_unknown_log_channel_is_named():
+    with pytest.raises(SceneError, match="logging.channels: 'wheels' must be one of"):
+        load_scene(scene_text="logging: {channels: [chassis, wheels]}")
+
+
+@pytest.mark.parametrize("mode", ["meshcat_html", "meshcat_live"])
+@pytest.mark.parametrize("child", ["settle", "straight"])
+def test_visualization_modes(mode, child):
+    """A visualiser only when asked for; the replay page comes back with the result; the live
+    mode (here unpaced: realtime_rate 0) runs against a local Meshcat server."""
+    text = (f"visualization: {{mode: {mode}, realtime_rate: 0.0}}\n"
+            "simulator: {end_time_s: 0.05}")
+    scene = load_scene(SCENES[0][0].parent / "car.yaml", child=child, scene_text=text)
+    assert set(system_names(scene)) == expected_systems(scene)
+    result = run_scene(scene)
+    if mode == "meshcat_html":
+        assert "<html" in result.html.lower() and "meshcat" in result.html.lower()
+    else:
+        assert result.html is None

@@ -52,17 +52,21 @@ def test_ports_and_discrete_update_alone():
     outputs = [system.get_output_port(i).get_name() for i in range(system.num_output_ports())]
     assert outputs == ["friction_actuation", "desired_state", "diagnostics"]
     context = system.CreateDefaultContext()
-    # Joint at q = 2 µm, v = 0, memory q_prev = 0: the update accumulates 2 µm of creep.
+    # Joint at q = 2 µm, v = 0, memory (creep 0, static, q_prev = 0): one update accumulates
+    # 2 µm of creep and computes the step's outputs from it.
     system.GetInputPort("plant_state").FixValue(context, [2e-6, 0.0])
+    context.SetDiscreteState(system.EvalUniquePeriodicDiscreteUpdate(context))
+    assert_allclose(context.get_discrete_state(0).get_value(), [2e-6, 0.0, 2e-6],
+                    err_msg="creep, phase, q_prev")
     diagnostics = system.GetOutputPort("diagnostics").Eval(context)
     assert_allclose(diagnostics[1], 2e-6, err_msg="creep")
     mu1 = LAW.mu_s * (0.4 ** 2 * (3 - 0.8))  # cubic STEP at |Δ|/Δmax = 0.4
     assert_allclose(diagnostics[4], -mu1, rtol=1e-12, err_msg="mu")
     assert_allclose(diagnostics[7], -mu1 * 1000.0, rtol=1e-12, err_msg="friction")
-    update = system.EvalUniquePeriodicDiscreteUpdate(context).get_vector().get_value()
-    assert_allclose(update, [2e-6, 0.0, 2e-6], err_msg="creep, phase, q_prev")
-    desired = system.GetOutputPort("desired_state").Eval(context)
-    assert_allclose(desired, [2e-6, 0.0])
+    # Static phase: feed-forward = the law's force, PD targets = the current state.
+    assert_allclose(system.GetOutputPort("friction_actuation").Eval(context), [-mu1 * 1000.0],
+                    rtol=1e-12)
+    assert_allclose(system.GetOutputPort("desired_state").Eval(context), [2e-6, 0.0])
 
 
 @pytest.mark.parametrize("scheme, dt", schemes(MASS * G))

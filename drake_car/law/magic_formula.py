@@ -95,6 +95,7 @@ class TyreForces:
     fy0: float
     cornering_stiffness: float  # Ky (N/rad) at this load and camber
     slip_stiffness: float  # Kx (N per unit slip)
+    pneumatic_trail: float = 0.0  # t (m) at this slip: Mz = -t Fy + Mzr
 
 
 def magic_formula(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx, combined=True):
@@ -103,7 +104,7 @@ def magic_formula(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx, combined=Tru
     rolling resistance only). ``combined=False`` drops the combined-slip weighting.
     ``cornering_stiffness`` is Kyα (negative in the ISO convention: Fy ≈ Kyα·α)."""
     if fz <= 0.0:
-        return TyreForces(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        return TyreForces(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     fz0 = t.FNOMIN * t.LFZO
     dfz = (fz - fz0) / fz0
     r0 = t.UNLOADED_RADIUS
@@ -186,7 +187,26 @@ def magic_formula(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx, combined=Tru
     v = vx / t.LONGVL
     my = -r0 * fz * (t.QSY1 + t.QSY2 * fx / fz0 + t.QSY3 * abs(v) + t.QSY4 * v ** 4) * t.LMY
     my *= math.tanh(vx / 0.1)  # smooth sign through standstill
-    return TyreForces(fx, fy, mz, my, fx0, fy0, ky, kx)
+    return TyreForces(fx, fy, mz, my, fx0, fy0, ky, kx, trail)
+
+
+def linear_tyre(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx):
+    """The same tyre linearised in the slips about zero slip, at this load and camber (the
+    "linear tyre" of handling analyses): Fx = Fx(0) + Kx κ, Fy = Fy(0) + Ky α,
+    Mz = Mz(0) - t0 Ky α, with Kx, Ky and the pneumatic trail t0 the Magic Formula's at zero
+    slip (so it agrees with ``magic_formula`` to first order in κ and α) and My its rolling
+    resistance; no saturation, no combined-slip interaction. Fy(0), Mz(0) are the data's
+    offsets (ply-steer, conicity, camber thrust)."""
+    f = magic_formula(t, fz, 0.0, 0.0, gamma, vx, combined=False)
+    fx = f.fx + f.slip_stiffness * kappa
+    fy = f.fy + f.cornering_stiffness * alpha
+    my = f.my
+    if fz > 0.0:  # rolling resistance at this Fx (4.E70's QSY2 term)
+        my += -t.UNLOADED_RADIUS * fz * t.QSY2 * (fx - f.fx) / (t.FNOMIN * t.LFZO) * t.LMY \
+            * math.tanh(vx / 0.1)
+    mz = f.mz - f.pneumatic_trail * f.cornering_stiffness * alpha
+    return TyreForces(fx, fy, mz, my, fx, fy, f.cornering_stiffness, f.slip_stiffness,
+                      f.pneumatic_trail)
 
 
 def _mf_cos(b, c, d, e, x):

@@ -1,4 +1,4 @@
-"""Where a wheel touches the road, and the tyre's radial force there (pure numpy, no Drake).
+"""Where a wheel touches the road, and the tyre's radial force there (pure Python, no Drake).
 
 The tyre is a rigid rim of radius R0 with a radial spring-damper at one contact point: the point
 of the wheel's mid-plane circle that lies deepest below the road (for a flat road, the point of
@@ -9,7 +9,6 @@ function z = h(x, y); its local normal is taken as +z (road slopes are small).
 import dataclasses
 import math
 
-import numpy as np
 
 
 @dataclasses.dataclass(frozen=True)
@@ -30,21 +29,22 @@ def contact_point(centre, spin_axis, radius, road_height):
     """Lowest point of the wheel circle and the tyre's deflection there.
 
     Returns (p_contact on the road surface, deflection >= 0, radial unit vector from the centre
-    towards the contact). ``spin_axis`` is a unit vector, ``road_height(x, y)`` a callable.
+    towards the contact), the vectors as 3-tuples. ``spin_axis`` is a unit vector,
+    ``road_height(x, y)`` a callable. Written out in scalars: this runs four times per step.
     """
     ax, ay, az = float(spin_axis[0]), float(spin_axis[1]), float(spin_axis[2])
     # -z projected onto the wheel plane: (0, 0, -1) + a_z a
     dx, dy, dz = az * ax, az * ay, -1.0 + az * az
     norm = math.sqrt(dx * dx + dy * dy + dz * dz)
     if norm < 1e-9:  # wheel lying flat: no rolling contact defined
-        return np.array(centre, dtype=float), 0.0, np.array([0.0, 0.0, -1.0])
+        return (float(centre[0]), float(centre[1]), float(centre[2])), 0.0, (0.0, 0.0, -1.0)
     dx, dy, dz = dx / norm, dy / norm, dz / norm
     x = float(centre[0]) + radius * dx
     y = float(centre[1]) + radius * dy
     z = float(centre[2]) + radius * dz
     ground = road_height(x, y)
     deflection = max(0.0, ground - z)
-    return np.array([x, y, ground]), deflection, np.array([dx, dy, dz])
+    return (x, y, ground), deflection, (dx, dy, dz)
 
 
 def radial_force(tyre: RadialTyre, deflection, deflection_rate):

@@ -1,4 +1,4 @@
-"""Tyre kinematics and transient slip (pure numpy): from a wheel's motion to κ, α, γ.
+"""Tyre kinematics and transient slip (pure Python): from a wheel's motion to κ, α, γ.
 
 The contact frame at a wheel: e_x = heading (spin axis × road normal), e_y = n × e_x, n = road
 normal (+z). Slip velocities of the contact patch: V_sx = V_cx - Ω R_e (R_e the effective
@@ -17,7 +17,6 @@ slips κ = -V_sx/|V_cx|, tan α = V_sy/|V_cx| are used, with |V_cx| floored at `
 import dataclasses
 import math
 
-import numpy as np
 
 
 @dataclasses.dataclass(frozen=True)
@@ -44,8 +43,8 @@ class SlipOptions:
 
 @dataclasses.dataclass
 class ContactKinematics:
-    e_x: np.ndarray
-    e_y: np.ndarray
+    e_x: tuple  # unit heading, horizontal: (x, y, 0)
+    e_y: tuple  # unit lateral, horizontal: (x, y, 0)
     gamma: float  # ISO inclination: rotation about e_x, positive with the top leaning right
     v_cx: float  # forward speed of the wheel centre (m/s)
     v_sx: float  # longitudinal slip velocity (m/s)
@@ -64,8 +63,8 @@ def contact_kinematics(spin_axis, centre, velocity, angular_velocity, contact,
         ex, ey = ex / norm, ey / norm
     else:
         ex, ey = 1.0, 0.0
-    e_x = np.array([ex, ey, 0.0])
-    e_y = np.array([-ey, ex, 0.0])
+    e_x = (ex, ey, 0.0)
+    e_y = (-ey, ex, 0.0)
     gamma = math.asin(max(-1.0, min(1.0, az)))
     vx, vy = float(velocity[0]), float(velocity[1])
     wx, wy, wz = (float(angular_velocity[0]), float(angular_velocity[1]),

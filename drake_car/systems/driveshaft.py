@@ -33,9 +33,10 @@ class DriveshaftReaction(LeafSystem):
         super().__init__()
         order = [int(i) for i in plant.GetJointActuatorIndices(instance)]
         self._indices = [order.index(int(a.index())) for a in drive_actuators]
-        self._knuckles = [k.index() for k in knuckles]
-        self._wheels = [a.joint().child_body().index() for a in drive_actuators]
-        self._chassis = chassis.index()
+        self._wheels = [int(a.joint().child_body().index()) for a in drive_actuators]
+        # One force object per knuckle and one for the chassis, refilled every step.
+        self._applied = [_applied_torque(k.index()) for k in knuckles]
+        self._applied.append(_applied_torque(chassis.index()))
         self._actuation = self.DeclareVectorInputPort("net_actuation", len(order))
         self._poses = self.DeclareAbstractInputPort("body_poses",
                                                     Value[list[RigidTransform]]())
@@ -44,22 +45,24 @@ class DriveshaftReaction(LeafSystem):
             self._calc)
 
     def _calc(self, context, output):
-        torque = self._actuation.Eval(context)
+        torque = self._actuation.Eval(context).tolist()
         poses = self._poses.Eval(context)
-        forces = []
-        total = np.zeros(3)
-        for index, knuckle, wheel in zip(self._indices, self._knuckles, self._wheels):
-            axis = poses[int(wheel)].rotation().matrix()[:, 1]
-            moment = torque[index] * axis
-            total += moment
-            forces.append(_torque(knuckle, moment))
-        forces.append(_torque(self._chassis, -total))
-        output.set_value(forces)
+        total = [0.0, 0.0, 0.0]
+        for index, wheel, applied in zip(self._indices, self._wheels, self._applied):
+            (_, ax, _), (_, ay, _), (_, az, _) = poses[wheel].rotation().matrix().tolist()
+            t = torque[index]
+            moment = [t * ax, t * ay, t * az]  # T along the wheel's spin axis (its body y)
+            total = [total[0] + moment[0], total[1] + moment[1], total[2] + moment[2]]
+            applied.F_Bq_W = SpatialForce(moment, _ZERO)
+        self._applied[-1].F_Bq_W = SpatialForce([-total[0], -total[1], -total[2]], _ZERO)
+        output.set_value(self._applied)  # copied into the port's value
 
 
-def _torque(body_index, moment):
+_ZERO = [0.0, 0.0, 0.0]
+
+
+def _applied_torque(body_index):
     force = ExternallyAppliedSpatialForce()
     force.body_index = body_index
     force.p_BoBq_B = np.zeros(3)
-    force.F_Bq_W = SpatialForce(moment, np.zeros(3))
     return force

@@ -45,10 +45,13 @@ Two numerical schemes (``scheme``):
     both schemes: the reactions are the plant's sampled output).
 
     Event order within a step (Drake 1.51): the plant's SAP step is an unrestricted update and
-    runs first; this system's discrete update then sees the new plant state x_{k+1} and stores
-    the creep memory for it; the per-step publish and, at the next step, the plant read this
-    system's outputs, computed from that memory and x_{k+1} (``advance_creep`` with zero
-    displacement returns the memory unchanged, so the outputs, the gains and the memory agree).
+    runs first; this system's discrete update then sees the new plant state x_{k+1} (and the
+    reactions of that step), advances the creep memory to it and computes, in the same call,
+    everything the next step needs: the feed-forward actuation, the PD targets, the gains and
+    the diagnostics. They are discrete state, and the output ports are state output ports (no
+    Python runs when the plant reads them). The per-step publish then writes the gains into the
+    actuators; at the next step the plant reads the outputs. One Python call computes a step;
+    the publish only copies numbers.
 
     Drake keeps PD gains and effort limits in the *model*, not in the context. This system owns
     them for its actuators: a per-step publish event (and an initialization event) writes the
@@ -66,10 +69,10 @@ For rigs, ``constant_normal_force_N`` replaces the reaction.
 import dataclasses
 
 import numpy as np
-from pydrake.common.value import AbstractValue, Value
+from pydrake.common.value import Value
 from pydrake.multibody.math import SpatialForce
 from pydrake.multibody.tree import PdControllerGains, PrismaticJoint, RevoluteJoint
-from pydrake.systems.framework import BasicVector, LeafSystem, ValueProducer
+from pydrake.systems.framework import LeafSystem
 
 from drake_car.law.frd_friction import (
     STATIC, StrutFrictionParameters, advance_creep, friction_coefficient, mu_kinetic,
@@ -88,16 +91,62 @@ class FrictionPair:
     actuator: object
 
 
+@dataclasses.dataclass
+class Strut:
+    """One cylindrical joint with friction: its pairs (translation first) and where their normal
+    force comes from. ``label`` prefixes the diagnostics' names ("left" -> "left_translation_v").
+
+    Normal force (eq. 4) comes from the reaction of ``normal_force_joint`` (default: the first
+    pair's joint); ``overlap_m`` = (d0, d1) and ``moment_arm_offset_m`` = (a0, a1) give the
+    overlap d(q) = d0 + d1·q and the offset a(q) = a0 + a1·q from the joint frame Jc to the
+    overlap's middle, q that joint's position. ``constant_normal_force_N`` replaces the reaction
+    (rigs); ``initial_normal_force_N`` is used before the first step, when Drake's sampled
+    reaction port still reads zero."""
+
+    pairs: list
+    label: str = ""
+    normal_force_joint: object = None
+    overlap_m: tuple = (0.1, 0.0)
+    moment_arm_offset_m: tuple = (0.0, 0.0)
+    constant_normal_force_N: float | None = None
+    initial_normal_force_N: float | None = None
+
+
+class _StrutData:
+    """What the per-step computation needs of one strut, resolved once at construction."""
+
+    def __init__(self, strut: Strut, plant, name):
+        self.label = strut.label
+        self.overlap = tuple(float(x) for x in strut.overlap_m)
+        self.offset = tuple(float(x) for x in strut.moment_arm_offset_m)
+        self.constant = strut.constant_normal_force_N
+        self.initial = (None if strut.initial_normal_force_N is None
+                        else float(strut.initial_normal_force_N))
+        if self.constant is not None:
+            if not self.constant >= 0:
+                raise ValueError(f"{name}: constant_normal_force_N = {self.constant} must be "
+                                 ">= 0")
+            return
+        joint = strut.normal_force_joint or strut.pairs[0].joint
+        self.joint_index = int(joint.index())
+        self.q_index = joint.position_start()
+        axis = (joint.translation_axis() if isinstance(joint, PrismaticJoint)
+                else joint.revolute_axis())
+        self.axis = tuple(float(a) for a in np.asarray(axis, dtype=float)
+                          / np.linalg.norm(axis))
+
+
 class StrutFriction(LeafSystem):
-    """FRD friction on up to two pairs (translation on a prismatic joint, rotation on a revolute
-    joint about the same axis).
+    """FRD friction on the pairs of one or more struts (translation on a prismatic joint,
+    rotation on a revolute joint about the same axis). One system serves all struts of a car:
+    the plant's state and reactions are read once per step for all of them.
 
     .. pydrake_system::
 
         name: StrutFriction
         input_ports:
         - plant_state
-        - reaction_forces (absent with a constant normal force)
+        - reaction_forces (absent when every strut has a constant normal force)
         output_ports:
         - friction_actuation
         - desired_state (fast scheme only)
@@ -105,12 +154,15 @@ class StrutFriction(LeafSystem):
 
     ``plant_state``: the plant's full state [q; v]. ``reaction_forces``: the plant's
     ``reaction_forces`` (list of SpatialForce, N and N·m). ``friction_actuation``: the
-    feed-forward actuation of the pairs' actuators (N, N·m; in the reference scheme this is the
-    whole friction force). ``desired_state``: [q_d..., v_d...] of the pairs' PD actuators.
-    ``diagnostics``: per pair (translation first) the fields ``DIAGNOSTIC_FIELDS``: relative
-    velocity v (m/s or rad/s), creep Δ (m or rad), β, μ1, signed μ, phase (0 static,
-    1 kinetic), normal force N (N), friction from the law at the step's start (N or N·m),
-    evaluated from the state at the start of the step.
+    feed-forward actuation of the pairs' actuators, strut by strut (N, N·m; in the reference
+    scheme this is the whole friction force). ``desired_state``: [q_d..., v_d...] of the pairs'
+    PD actuators. ``diagnostics``: per pair the fields ``DIAGNOSTIC_FIELDS`` (names from
+    ``diagnostic_names()``): relative velocity v (m/s or rad/s), creep Δ (m or rad), β, μ1,
+    signed μ, phase (0 static, 1 kinetic), normal force N (N), friction from the law at the
+    step's start (N or N·m), evaluated from the state at the start of the step.
+
+    ``pairs``: a list of ``Strut``, or (one strut) a list of ``FrictionPair`` with that strut's
+    normal-force arguments given as keywords.
     """
 
     def __init__(self, plant, pairs, params: StrutFrictionParameters, *, scheme="fast",
@@ -122,72 +174,86 @@ class StrutFriction(LeafSystem):
             raise ValueError(f"{name}: scheme {scheme!r} must be one of {SCHEMES}")
         if not pairs:
             raise ValueError(f"{name}: no friction pair given")
+        if all(isinstance(p, Strut) for p in pairs):
+            struts = list(pairs)
+            if (normal_force_joint, constant_normal_force_N, initial_normal_force_N) != (
+                    None, None, None) or overlap_m != (0.1, 0.0) \
+                    or moment_arm_offset_m != (0.0, 0.0):
+                raise ValueError(f"{name}: with a list of Strut, give the normal-force "
+                                 "arguments in each Strut")
+        elif all(isinstance(p, FrictionPair) for p in pairs):
+            struts = [Strut(list(pairs), "", normal_force_joint, overlap_m, moment_arm_offset_m,
+                            constant_normal_force_N, initial_normal_force_N)]
+        else:
+            raise TypeError(f"{name}: pairs must be all FrictionPair or all Strut")
+        labels = [s.label for s in struts]
+        if len(set(labels)) != len(labels):
+            raise ValueError(f"{name}: strut labels {labels} must be distinct")
         self._name = name
         self._params = params
         self._scheme = scheme
-        self._pairs = list(pairs)
-        self._laws = []
-        for pair in self._pairs:
-            if pair.kind == "translation" and not isinstance(pair.joint, PrismaticJoint):
-                raise TypeError(f"{name}: translation pair needs a PrismaticJoint, "
-                                f"got {type(pair.joint).__name__} '{pair.joint.name()}'")
-            if pair.kind == "rotation" and not isinstance(pair.joint, RevoluteJoint):
-                raise TypeError(f"{name}: rotation pair needs a RevoluteJoint, "
-                                f"got {type(pair.joint).__name__} '{pair.joint.name()}'")
-            self._laws.append(params.translation() if pair.kind == "translation"
-                              else params.rotation())
+        self._struts = [_StrutData(s, plant, name) for s in struts]
         nq = plant.num_positions()
+        # Flattened over the struts' pairs, in actuation order.
+        self._pairs, self._laws, self._strut_of, self._scale_of = [], [], [], []
+        for k, strut in enumerate(struts):
+            if not strut.pairs:
+                raise ValueError(f"{name}: strut '{strut.label}' has no friction pair")
+            for pair in strut.pairs:
+                if pair.kind == "translation" and not isinstance(pair.joint, PrismaticJoint):
+                    raise TypeError(f"{name}: translation pair needs a PrismaticJoint, "
+                                    f"got {type(pair.joint).__name__} '{pair.joint.name()}'")
+                if pair.kind == "rotation" and not isinstance(pair.joint, RevoluteJoint):
+                    raise TypeError(f"{name}: rotation pair needs a RevoluteJoint, "
+                                    f"got {type(pair.joint).__name__} '{pair.joint.name()}'")
+                self._pairs.append(pair)
+                self._laws.append(params.translation() if pair.kind == "translation"
+                                  else params.rotation())
+                self._strut_of.append(k)
+        self._labels = [struts[k].label for k in self._strut_of]
         self._q_index = [p.joint.position_start() for p in self._pairs]
         self._v_index = [nq + p.joint.velocity_start() for p in self._pairs]
-        self._overlap = tuple(float(x) for x in overlap_m)
-        self._moment_offset = tuple(float(x) for x in moment_arm_offset_m)
-        self._constant_normal = constant_normal_force_N
-        # Drake's sampled reaction port reads zero before the first step; a run that starts
-        # from a loaded, stuck state gives the normal force for that first step here.
-        self._initial_normal = (None if initial_normal_force_N is None
-                                else float(initial_normal_force_N))
-        if constant_normal_force_N is None:
-            joint = normal_force_joint or self._pairs[0].joint
-            self._normal_joint_index = int(joint.index())
-            self._normal_q_index = joint.position_start()
-            axis = (joint.translation_axis() if isinstance(joint, PrismaticJoint)
-                    else joint.revolute_axis())
-            self._axis = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-        elif not constant_normal_force_N >= 0:
-            raise ValueError(f"{name}: constant_normal_force_N = {constant_normal_force_N} "
-                             "must be >= 0")
+        # Eq. (6): the rotation pair's moment is μ (N r + M0/μs).
+        preload_moment = (params.preload_moment_Nm / params.mu_s
+                          if params.preload_moment_Nm > 0 else 0.0)
+        self._rotation_terms = (params.rod_radius_m, preload_moment)
+        # Per pair, constants of the fast scheme's gains (per unit of the pair's N-scale).
+        self._kd_unit = [shape_max_slope(law.beta_shape) / law.dv for law in self._laws]
+        self._kp_unit = [shape_max_slope(law.creep_shape) * law.mu_s / law.dmax
+                         for law in self._laws]
         n = len(self._pairs)
+        self._dt = plant.time_step()
 
         self._state_port = self.DeclareVectorInputPort(
             "plant_state", plant.num_multibody_states())
         self._reaction_port = None
-        if constant_normal_force_N is None:
+        if any(s.constant is None for s in self._struts):
             self._reaction_port = self.DeclareAbstractInputPort(
                 "reaction_forces", Value[list[SpatialForce]]())
-        # Discrete state per pair: creep, phase, joint position at the last update.
-        self._state_index = self.DeclareDiscreteState(3 * n)
+        # Discrete state, each group computed by the one update per step:
+        #   memory: per pair creep, phase, joint position at the last update;
+        #   actuation: per pair the feed-forward (fast) or the whole friction (reference);
+        #   desired (fast): [q_d..., v_d...];  gains (fast): per pair Kp, Kd, effort limit;
+        #   diagnostics: per pair DIAGNOSTIC_FIELDS.
+        self._memory = self.DeclareDiscreteState(3 * n)
+        self._actuation = self.DeclareDiscreteState(n)
+        self._diagnostics = self.DeclareDiscreteState(len(DIAGNOSTIC_FIELDS) * n)
+        self._desired = self._gains_state = None
+        if scheme == "fast":
+            self._desired = self.DeclareDiscreteState(2 * n)
+            self._gains_state = self.DeclareDiscreteState(3 * n)
         self.DeclareInitializationDiscreteUpdateEvent(self._initialize)
-        self.DeclarePeriodicDiscreteUpdateEvent(
-            plant.time_step(), 0.0, self._update)
-        self._step = self.DeclareCacheEntry(
-            description="friction_step",
-            value_producer=ValueProducer(allocate=lambda: AbstractValue.Make(()),
-                                         calc=self._calc_step),
-            prerequisites_of_calc={self.all_input_ports_ticket(),
-                                   self.xd_ticket()})
-        self._actuation_port = self.DeclareVectorOutputPort(
-            "friction_actuation", n, self._calc_actuation,
-            prerequisites_of_calc={self._step.ticket()})
+        self.DeclarePeriodicDiscreteUpdateEvent(self._dt, 0.0, self._update)
+        self._actuation_port = self.DeclareStateOutputPort("friction_actuation",
+                                                           self._actuation)
         self._desired_port = None
         if scheme == "fast":
-            self._desired_port = self.DeclareVectorOutputPort(
-                "desired_state", 2 * n, self._calc_desired,
-                prerequisites_of_calc={self._step.ticket()})
+            self._desired_port = self.DeclareStateOutputPort("desired_state", self._desired)
+            self._gains = PdControllerGains(p=1.0, d=1.0)  # reused for every write
             self.DeclareInitializationPublishEvent(self._write_gains)
             self.DeclarePerStepPublishEvent(self._write_gains)
-        self._diagnostics_port = self.DeclareVectorOutputPort(
-            "diagnostics", BasicVector(len(DIAGNOSTIC_FIELDS) * n), self._calc_diagnostics,
-            prerequisites_of_calc={self._step.ticket()})
+            self.DeclareForcedPublishEvent(self._write_gains)
+        self._diagnostics_port = self.DeclareStateOutputPort("diagnostics", self._diagnostics)
 
     # -- wiring helpers ---------------------------------------------------------------------
     def connect(self, builder, plant):
@@ -211,116 +277,106 @@ class StrutFriction(LeafSystem):
         return [p.kind for p in self._pairs]
 
     def diagnostic_names(self):
-        return [f"{p.kind}_{field}" for p in self._pairs for field in DIAGNOSTIC_FIELDS]
+        return [f"{label}_{p.kind}_{field}" if label else f"{p.kind}_{field}"
+                for label, p in zip(self._labels, self._pairs) for field in DIAGNOSTIC_FIELDS]
 
     @property
     def scheme(self):
         return self._scheme
 
     # -- the computation ----------------------------------------------------------------------
-    def _normal_force(self, context, x):
-        if self._constant_normal is not None:
-            return float(self._constant_normal)
-        if self._initial_normal is not None and context.get_time() <= 0.0:
-            return self._initial_normal
-        q = x[self._normal_q_index]
-        overlap = self._overlap[0] + self._overlap[1] * q
+    def _normal_force(self, x, strut, reactions, t, initial):
+        if strut.constant is not None:
+            return float(strut.constant)
+        if initial and strut.initial is not None:
+            return strut.initial
+        q = x[strut.q_index]
+        overlap = strut.overlap[0] + strut.overlap[1] * q
         if not overlap > 0:
             raise RuntimeError(
-                f"{self._name}: overlap d = {overlap:.4g} m <= 0 at t = {context.get_time():.4f} s"
+                f"{self._name}: overlap d = {overlap:.4g} m <= 0 at t = {t:.4f} s"
+                f"{' on strut ' + strut.label if strut.label else ''}"
                 " (the rod has left the cylinder's guide)")
-        reaction = self._reaction_port.Eval(context)[self._normal_joint_index]
-        force = reaction.translational()
-        moment = reaction.rotational()
-        u = self._axis
-        offset = self._moment_offset[0] + self._moment_offset[1] * q
-        ux, uy, uz = u
-        fx, fy, fz = force
-        mx = moment[0] + offset * (uy * fz - uz * fy)
-        my = moment[1] + offset * (uz * fx - ux * fz)
-        mz = moment[2] + offset * (ux * fy - uy * fx)
+        mx, my, mz, fx, fy, fz = reactions[strut.joint_index].get_coeffs().tolist()
+        ux, uy, uz = strut.axis
+        offset = strut.offset[0] + strut.offset[1] * q
+        mx += offset * (uy * fz - uz * fy)
+        my += offset * (uz * fx - ux * fz)
+        mz += offset * (ux * fy - uy * fx)
         f_axial = fx * ux + fy * uy + fz * uz
         m_axial = mx * ux + my * uy + mz * uz
         return normal_force(
             (fx - f_axial * ux, fy - f_axial * uy, fz - f_axial * uz),
             (mx - m_axial * ux, my - m_axial * uy, mz - m_axial * uz),
             overlap, self._params.preload_force_N, self._params.mu_s,
-            self._params.normal_force_form, axis=(ux, uy, uz))
-
-    def _calc_step(self, context, abstract_value):
-        x = self._state_port.Eval(context)
-        memory = context.get_discrete_state(self._state_index).get_value()
-        normal = self._normal_force(context, x)
-        p = self._params
-        results = []
-        for i, (pair, law) in enumerate(zip(self._pairs, self._laws)):
-            q = float(x[self._q_index[i]])
-            v = float(x[self._v_index[i]])
-            creep, phase = advance_creep(float(memory[3 * i]), float(memory[3 * i + 1]), v,
-                                         q - float(memory[3 * i + 2]), law)
-            mu, beta, mu1, _ = friction_coefficient(v, creep, law)
-            if pair.kind == "translation":  # eq. (5); N includes F0/μs (eq. 4)
-                scale = normal
-            else:  # eq. (6)
-                scale = normal * p.rod_radius_m + (
-                    p.preload_moment_Nm / p.mu_s if p.preload_moment_Nm > 0 else 0.0)
-            force = mu * scale
-            gains = None
-            if self._scheme == "fast":
-                # |∂F/∂v| ≤ s'_β (μs + μ1) N / Δv in the static phase (v opposing the creep).
-                kd = max(shape_max_slope(law.beta_shape) * (law.mu_s + mu1) * scale / law.dv,
-                         _MIN_GAIN)
-                if phase == STATIC:
-                    kp = shape_max_slope(law.creep_shape) * law.mu_s * scale / law.dmax
-                    gains = (kp, kd, law.mu_s * scale, q, v, force)
-                else:
-                    gains = (0.0, kd, mu_kinetic(v, law) * scale, q, 0.0, 0.0)
-            results.append((q, v, creep, phase, beta, mu1, mu, normal, force, gains))
-        abstract_value.set_value(tuple(results))
+            self._params.normal_force_form, axis=strut.axis)
 
     def _initialize(self, context, discrete_state):
-        x = self._state_port.Eval(context)
-        values = np.zeros(3 * len(self._pairs))
-        for i in range(len(self._pairs)):
-            values[3 * i + 1] = STATIC
-            values[3 * i + 2] = x[self._q_index[i]]
-        discrete_state.set_value(self._state_index, values)
+        # Memory: no creep, static, at the initial positions; then the step's values from it.
+        x = self._state_port.Eval(context).tolist()
+        memory = []
+        for q_index in self._q_index:
+            memory += [0.0, STATIC, x[q_index]]
+        self._compute(context, discrete_state, x, memory, context.get_time(), initial=True)
 
     def _update(self, context, discrete_state):
-        # Only the creep memory; the forces are computed once per step, by the outputs.
-        x = self._state_port.Eval(context)
-        memory = context.get_discrete_state(self._state_index).get_value()
-        values = np.empty(3 * len(self._pairs))
-        for i, law in enumerate(self._laws):
-            q = float(x[self._q_index[i]])
-            creep, phase = advance_creep(float(memory[3 * i]), float(memory[3 * i + 1]),
-                                         float(x[self._v_index[i]]),
-                                         q - float(memory[3 * i + 2]), law)
-            values[3 * i:3 * i + 3] = (creep, phase, q)
-        discrete_state.set_value(self._state_index, values)
+        # The plant has stepped: x is x_{k+1}, at time t + dt.
+        self._compute(context, discrete_state, self._state_port.Eval(context).tolist(),
+                      context.get_discrete_state(self._memory).get_value().tolist(),
+                      context.get_time() + self._dt, initial=False)
 
-    def _calc_actuation(self, context, output):
-        step = self._step.Eval(context)
-        if self._scheme == "fast":
-            output.SetFromVector([r[9][5] for r in step])
-        else:
-            output.SetFromVector([r[8] for r in step])
-
-    def _calc_desired(self, context, output):
-        step = self._step.Eval(context)
-        output.SetFromVector([r[9][3] for r in step] + [r[9][4] for r in step])
-
-    def _calc_diagnostics(self, context, output):
-        values = []
-        for q, v, creep, phase, beta, mu1, mu, normal, force, _ in self._step.Eval(context):
-            values += [v, creep, beta, mu1, mu, phase, normal, force]
-        output.SetFromVector(values)
+    def _compute(self, context, discrete_state, x, memory, t, initial):
+        """Advances the creep memory to the plant state ``x`` and computes the friction, the
+        fast scheme's PD targets and gains, and the diagnostics, into ``discrete_state``."""
+        reactions = (self._reaction_port.Eval(context) if self._reaction_port is not None
+                     else None)
+        normals = [self._normal_force(x, s, reactions, t, initial) for s in self._struts]
+        radius, preload_moment = self._rotation_terms
+        fast = self._scheme == "fast"
+        new_memory, actuation, diagnostics = [], [], []
+        desired_q, desired_v, gains = [], [], []
+        for i, (pair, law) in enumerate(zip(self._pairs, self._laws)):
+            normal = normals[self._strut_of[i]]
+            q = x[self._q_index[i]]
+            v = x[self._v_index[i]]
+            creep, phase = advance_creep(memory[3 * i], memory[3 * i + 1], v,
+                                         q - memory[3 * i + 2], law)
+            new_memory += [creep, phase, q]
+            mu, beta, mu1, _ = friction_coefficient(v, creep, law)
+            # eq. (5), N includes F0/μs (eq. 4); eq. (6) for the rotation pair
+            scale = normal if pair.kind == "translation" else normal * radius + preload_moment
+            force = mu * scale
+            diagnostics += [v, creep, beta, mu1, mu, phase, normal, force]
+            if not fast:
+                actuation.append(force)
+                continue
+            # |∂F/∂v| ≤ s'_β (μs + μ1) N / Δv in the static phase (v opposing the creep).
+            kd = max(self._kd_unit[i] * (law.mu_s + mu1) * scale, _MIN_GAIN)
+            if phase == STATIC:
+                actuation.append(force)
+                desired_q.append(q)
+                desired_v.append(v)
+                gains += [max(self._kp_unit[i] * scale, _MIN_GAIN), kd,
+                          max(law.mu_s * scale, _MIN_GAIN)]
+            else:
+                actuation.append(0.0)
+                desired_q.append(q)
+                desired_v.append(0.0)
+                gains += [_MIN_GAIN, kd, max(mu_kinetic(v, law) * scale, _MIN_GAIN)]
+        discrete_state.set_value(self._memory, new_memory)
+        discrete_state.set_value(self._actuation, actuation)
+        discrete_state.set_value(self._diagnostics, diagnostics)
+        if fast:
+            discrete_state.set_value(self._desired, desired_q + desired_v)
+            discrete_state.set_value(self._gains_state, gains)
 
     def _write_gains(self, context):
-        for pair, r in zip(self._pairs, self._step.Eval(context)):
-            kp, kd, limit, _, _, _ = r[9]
-            pair.actuator.set_controller_gains(PdControllerGains(p=max(kp, _MIN_GAIN), d=kd))
-            pair.actuator.set_effort_limit(max(limit, _MIN_GAIN))
+        values = context.get_discrete_state(self._gains_state).get_value().tolist()
+        gains = self._gains
+        for i, pair in enumerate(self._pairs):
+            gains.p, gains.d = values[3 * i], values[3 * i + 1]
+            pair.actuator.set_controller_gains(gains)
+            pair.actuator.set_effort_limit(values[3 * i + 2])
 
 
 @dataclasses.dataclass
@@ -351,14 +407,15 @@ class StrutFrictionSetup:
         return declare_pairs(plant, joints[0], joints[1] if self.rotation else None,
                              self.scheme, prefix=f"strut_friction_{side}")
 
-    def make_system(self, plant, pairs, side, *, guide_length_l_m):
+    def make_system(self, plant, declarations, *, guide_length_l_m):
+        """One StrutFriction for all struts; ``declarations``: side -> pairs (``declare``)."""
         # The prismatic joint's child is the cylinder, Jc at the guide; q is the extension s.
         # Overlap d = l - s; the overlap's middle lies d/2 beyond Jc along the joint axis.
-        return StrutFriction(plant, pairs, self.params, scheme=self.scheme,
-                             overlap_m=(guide_length_l_m, -1.0),
-                             moment_arm_offset_m=(-0.5 * guide_length_l_m, 0.5),
-                             name=f"strut_friction_{side}")
-
+        struts = [Strut(pairs, side, overlap_m=(guide_length_l_m, -1.0),
+                        moment_arm_offset_m=(-0.5 * guide_length_l_m, 0.5))
+                  for side, pairs in declarations.items()]
+        return StrutFriction(plant, struts, self.params, scheme=self.scheme,
+                             name="strut_friction")
 
 def declare_pairs(plant, prismatic=None, revolute=None, scheme="fast", prefix="friction"):
     """Adds one actuator per pair to ``plant`` (before Finalize); fast-scheme actuators get PD

@@ -8,7 +8,7 @@ from pydrake.multibody.math import SpatialForce, SpatialVelocity
 from pydrake.multibody.plant import ExternallyAppliedSpatialForce
 from pydrake.systems.framework import BasicVector, LeafSystem, ValueProducer
 
-from drake_car.law.magic_formula import magic_formula
+from drake_car.law.magic_formula import linear_tyre, magic_formula
 from drake_car.law.road import flat
 from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
 from drake_car.law.tyre_slip import (
@@ -17,7 +17,6 @@ from drake_car.law.tyre_slip import (
 WHEELS = ("fl", "fr", "rl", "rr")
 DIAGNOSTIC_FIELDS = ("Fx_N", "Fy_N", "Fz_N", "Mz_Nm", "kappa", "alpha_rad", "gamma_rad",
                      "vx_mps")
-_UP = np.array([0.0, 0.0, 1.0])
 
 
 class TyreSystem(LeafSystem):
@@ -40,6 +39,9 @@ class TyreSystem(LeafSystem):
     deflections (m). ``tyre_diagnostics``: per wheel the fields ``DIAGNOSTIC_FIELDS`` in the
     contact frame (x along the wheel heading, y to its left; ISO slip conventions).
 
+    With ``linear`` the horizontal forces come from ``law.magic_formula.linear_tyre`` (the
+    same tyre linearised about zero slip) instead.
+
     Vertical: deflection δ = max(0, h(x_c, y_c) - z_c) at the lowest point c of the wheel's
     circle, Fz = max(0, k δ + c δ̇) with δ̇ = -v_z of the wheel centre. Horizontal (when a Magic
     Formula tyre is given): Fx, Fy, Mz, My of ``drake_car.law.magic_formula`` at the slips of
@@ -51,7 +53,7 @@ class TyreSystem(LeafSystem):
 
     def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=flat, *,
                  magic_formula_tyre=None, slip: SlipOptions = SlipOptions(), combined=True,
-                 time_step_s=None, mirror_right=True, mirror_left=("fl", "rl")):
+                 linear=False, time_step_s=None, mirror_right=True, mirror_left=("fl", "rl")):
         super().__init__()
         missing = [w for w in WHEELS if w not in wheel_bodies]
         if missing:
@@ -61,6 +63,10 @@ class TyreSystem(LeafSystem):
         self._mf = magic_formula_tyre
         self._slip = slip
         self._combined = combined
+        self._linear = linear
+        if linear and magic_formula_tyre is None:
+            raise ValueError("TyreSystem: the linear tyre is the Magic Formula tyre linearised; "
+                             "give magic_formula_tyre")
         self._body_indices = [wheel_bodies[w].index() for w in WHEELS]
         # The right-hand tyres are the left-hand ones mirrored (as Adams' and MF-Tyre's tyre-side
         # option does), so the car is symmetric: the data's ply-steer and conicity offsets
@@ -68,6 +74,11 @@ class TyreSystem(LeafSystem):
         self._mirror = [1.0 if w in mirror_left else -1.0 for w in WHEELS] if mirror_right \
             else [1.0] * len(WHEELS)
         self._int_indices = [int(i) for i in self._body_indices]
+        self._applied = []  # one force object per wheel, refilled every step
+        for index in self._body_indices:
+            applied = ExternallyAppliedSpatialForce()
+            applied.body_index = index
+            self._applied.append(applied)
         self._poses_port = self.DeclareAbstractInputPort(
             "body_poses", Value[list[RigidTransform]]())
         self._velocities_port = self.DeclareAbstractInputPort(
@@ -107,7 +118,7 @@ class TyreSystem(LeafSystem):
         if self._road is flat:
             return -float(v[2])
         eps = 1e-3
-        x, y = float(point[0]), float(point[1])
+        x, y = point[0], point[1]
         dh_dx = (self._road(x + eps, y) - self._road(x - eps, y)) / (2 * eps)
         dh_dy = (self._road(x, y + eps) - self._road(x, y - eps)) / (2 * eps)
         return dh_dx * float(v[0]) + dh_dy * float(v[1]) - float(v[2])
@@ -135,37 +146,48 @@ class TyreSystem(LeafSystem):
                 "smaller step")
 
     def diagnostic_names(self):
-        return [f"{field}_{w}" for w in WHEELS for field in DIAGNOSTIC_FIELDS]
+        """Per wheel, the fields with the wheel's name before the unit: "Fx_fl_N", "kappa_fl"."""
+        names = []
+        for w in WHEELS:
+            for field in DIAGNOSTIC_FIELDS:
+                quantity, _, unit = field.partition("_")
+                names.append(f"{quantity}_{w}_{unit}" if unit else f"{quantity}_{w}")
+        return names
 
     def _calc_kinematics(self, context, abstract_value):
+        # Scalars throughout (tuples, not numpy): this runs every step for four wheels.
         poses = self._poses_port.Eval(context)
         velocities = self._velocities_port.Eval(context)
         radius = self._tyre.unloaded_radius_m
         result = []
-        for k, index in enumerate(self._int_indices):
-            pose = poses[index]
-            rotation = pose.rotation().matrix()
-            centre = pose.translation()
-            axis = rotation[:, 1]
+        for index in self._int_indices:
+            (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = \
+                poses[index].GetAsMatrix34().tolist()
+            axis = (r01, r11, r21)  # the wheel's spin axis is its body y
+            centre = (px, py, pz)
+            wx, wy, wz, vx, vy, vz = velocities[index].get_coeffs().tolist()
             point, deflection, _ = contact_point(centre, axis, radius, self._road)
-            velocity = velocities[index]
-            v = velocity.translational()
-            fz = radial_force(self._tyre, deflection, self._deflection_rate(point, v))
+            fz = radial_force(self._tyre, deflection,
+                              self._deflection_rate(point, (vx, vy, vz)))
             kin = None
             if self._mf is not None:
-                kin = contact_kinematics(axis, centre, v, velocity.rotational(), point,
+                kin = contact_kinematics(axis, centre, (vx, vy, vz), (wx, wy, wz), point,
                                          radius - deflection / 3.0)
-            result.append((self._body_indices[k], rotation, centre, point, deflection, fz, kin))
+            # The contact point in the wheel's frame: R^T (p - centre).
+            rx, ry, rz = point[0] - px, point[1] - py, point[2] - pz
+            p_body = [r00 * rx + r10 * ry + r20 * rz, r01 * rx + r11 * ry + r21 * rz,
+                      r02 * rx + r12 * ry + r22 * rz]
+            result.append((index, p_body, point, deflection, fz, kin))
         abstract_value.set_value(tuple(result))
 
     def _calc_solution(self, context, abstract_value):
-        deflections = (context.get_discrete_state(self._deflections).get_value()
+        deflections = (context.get_discrete_state(self._deflections).get_value().tolist()
                        if self._relaxed else None)
         result = []
-        for k, (index, rotation, centre, point, deflection, fz, kin) in enumerate(
+        for k, (index, p_body, point, deflection, fz, kin) in enumerate(
                 self._kinematics.Eval(context)):
-            force = np.array([0.0, 0.0, fz])
-            torque = np.zeros(3)
+            force = [0.0, 0.0, fz]
+            torque = [0.0, 0.0, 0.0]
             diagnostics = [0.0, 0.0, fz, 0.0, 0.0, 0.0, 0.0, 0.0]
             if kin is not None:
                 if self._relaxed:
@@ -174,28 +196,34 @@ class TyreSystem(LeafSystem):
                 else:
                     kappa, alpha = steady_slips(kin, self._slip)
                 mirror = self._mirror[k]
-                f = magic_formula(self._mf, fz, kappa, mirror * alpha, mirror * kin.gamma,
-                                  kin.v_cx, self._combined)
+                if self._linear:
+                    f = linear_tyre(self._mf, fz, kappa, mirror * alpha, mirror * kin.gamma,
+                                    kin.v_cx)
+                else:
+                    f = magic_formula(self._mf, fz, kappa, mirror * alpha, mirror * kin.gamma,
+                                      kin.v_cx, self._combined)
                 if mirror < 0:  # right-hand tyre: the data's lateral offsets mirrored
                     f.fy, f.mz = -f.fy, -f.mz
                 damping = (self._slip.low_speed_damping_Nspm
                            * low_speed_weight(kin.v_cx, self._slip)) if fz > 0 else 0.0
                 fx = f.fx - damping * kin.v_sx
                 fy = f.fy - damping * kin.v_sy
-                force = fx * kin.e_x + fy * kin.e_y + fz * _UP
-                torque = f.mz * _UP + f.my * kin.e_y
+                # e_x = (c, s, 0), e_y = (-s, c, 0): F = fx e_x + fy e_y + fz n,
+                # M = Mz n + My e_y.
+                c, s = kin.e_x[0], kin.e_x[1]
+                force = [fx * c - fy * s, fx * s + fy * c, fz]
+                torque = [-f.my * s, f.my * c, f.mz]
                 diagnostics = [fx, fy, fz, f.mz, kappa, alpha, kin.gamma, kin.v_cx]
-            result.append((index, rotation, centre, point, deflection, force, torque,
-                           diagnostics, kin))
+            result.append((index, p_body, point, deflection, force, torque, diagnostics, kin))
         abstract_value.set_value(tuple(result))
 
     def _update(self, context, discrete_state):
-        values = np.array(context.get_discrete_state(self._deflections).get_value())
+        values = context.get_discrete_state(self._deflections).get_value().tolist()
         options = self._slip
         for k, entry in enumerate(self._kinematics.Eval(context)):
-            kin = entry[6]
-            if entry[5] <= 0.0:  # wheel off the road: the contact patch relaxes to zero
-                values[2 * k:2 * k + 2] = 0.0
+            kin = entry[5]
+            if entry[4] <= 0.0:  # wheel off the road: the contact patch relaxes to zero
+                values[2 * k] = values[2 * k + 1] = 0.0
                 continue
             values[2 * k] = relax(values[2 * k], -kin.v_sx, kin.v_cx,
                                   options.relaxation_length_long_m, self._dt)
@@ -204,22 +232,19 @@ class TyreSystem(LeafSystem):
         discrete_state.set_value(self._deflections, values)
 
     def _calc_forces(self, context, output):
-        forces = []
-        for index, rotation, centre, point, _, force, torque, _, _ in self._solution.Eval(
-                context):
-            applied = ExternallyAppliedSpatialForce()
-            applied.body_index = index
-            applied.p_BoBq_B = rotation.T @ (point - centre)
+        forces = self._applied
+        for applied, (_, p_body, _, _, force, torque, _, _) in zip(
+                forces, self._solution.Eval(context)):
+            applied.p_BoBq_B = p_body
             applied.F_Bq_W = SpatialForce(torque, force)
-            forces.append(applied)
-        output.set_value(forces)
+        output.set_value(forces)  # copied into the port's value
 
     def _calc_loads(self, context, output):
         solution = self._solution.Eval(context)
-        output.SetFromVector([s[5][2] for s in solution] + [s[4] for s in solution])
+        output.SetFromVector([s[4][2] for s in solution] + [s[3] for s in solution])
 
     def _calc_diagnostics(self, context, output):
         values = []
         for s in self._solution.Eval(context):
-            values += s[7]
+            values += s[6]
         output.SetFromVector(values)
