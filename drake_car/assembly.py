@@ -23,6 +23,7 @@ from drake_car.law.tyre_slip import SlipOptions
 from drake_car.model.car import add_car
 from drake_car.model.geometry import SIDES
 from drake_car.systems.channels import CAR_CHANNELS, CarChannels
+from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 from drake_car.model.parameters import CarParameters
 from drake_car.systems.driveshaft import DriveshaftReaction
 from drake_car.systems.tyre import TyreSystem
@@ -72,7 +73,7 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
                       model_path=None, friction=None, tyres: TyreSetup | None = None,
                       road_height=flat, meshcat=None, fixed_chassis=False,
                       rack_trajectory=None, drive_trajectory=None, drive_reaction="driveshaft",
-                      log_channels=(), log_period_s=0.01):
+                      log_channels=(), log_period_s=0.01, sap_pacer=True):
     """Builds the car's Diagram.
 
     ``friction``: None (no friction system) or a ``StrutFrictionSetup`` (both front struts).
@@ -84,7 +85,9 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
     "driveshaft" (the servo torque is reacted by the body, as in a front-drive car) or
     "knuckle" (reacted where the joint is, as a joint motion in Adams).
     ``log_channels``: groups of ``LOG_CHANNELS`` to log every ``log_period_s`` by VectorLogSinks
-    named ``log_<group>`` ("friction" only when there is friction).
+    named ``log_<group>`` ("friction" only when there is friction). ``sap_pacer``: add the
+    pacer that keeps SAP from returning its initial guess (``systems/sap_pacer.py``; without it
+    steps at or below 1 ms drop whole steps' impulses near a balance).
     """
     unknown = [g for g in log_channels if g not in LOG_CHANNELS]
     if unknown:
@@ -121,7 +124,10 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
         friction.check_time_step(time_step_s)
         for side in SIDES:
             friction_declarations[side] = friction.declare(plant, car.strut_joints(side), side)
+    pacer = add_sap_pacer(plant) if sap_pacer else None
     plant.Finalize()
+    if pacer is not None:
+        connect_sap_pacer(builder, plant, pacer)
 
     magic = MagicFormulaTyre.from_file(tyres.tir_path) if tyres.magic_formula else None
     tyre = builder.AddSystem(TyreSystem(

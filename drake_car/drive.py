@@ -31,6 +31,7 @@ class DriveRun:
     built: object
     simulator: object
     html: str | None = None  # the Meshcat replay, when the scene asked for one
+    monitor: object = None  # drake_car.monitor.MonitorStats (frozen SAP steps)
 
 
 def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
@@ -38,7 +39,7 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
               profile: LaneChangeProfile | None = None, time_step_s=DEFAULT_TIME_STEP_S,
               record_period_s=0.01, end_time_s=None, meshcat=None, progress=None,
               extra_channels=None, rack=None, road_height=None, drive_reaction="driveshaft",
-              channels=LOG_CHANNELS, realtime_rate=0.0):
+              channels=LOG_CHANNELS, realtime_rate=0.0, sap_pacer=True):
     """Simulates the manoeuvre; returns the history sampled every ``record_period_s``.
 
     The history holds "t", "phase" and the columns of the logged ``channels`` (groups of
@@ -52,7 +53,8 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
     ``profile`` defaults to the calibrated lane change (scenes/lane_change_profile.json);
     ``rack`` (a PiecewisePolynomial) replaces the lane change's rack command altogether;
     ``road_height`` is a profile of ``drake_car.law.road`` (default flat); ``realtime_rate``
-    > 0 paces the run (for watching it live in ``meshcat``)."""
+    > 0 paces the run (for watching it live in ``meshcat``); ``sap_pacer`` False leaves out the
+    pacer of ``drake_car.systems.sap_pacer`` (to measure what it prevents)."""
     if case not in CASES:
         raise ValueError(f"case {case!r} must be one of {CASES}")
     if not record_period_s > 0:
@@ -68,13 +70,13 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
         road_height=road_height or flat, drive_reaction=drive_reaction,
         rack_trajectory=rack if rack is not None else rack_trajectory(timeline, profile, case),
         drive_trajectory=drive_trajectory(timeline, rolling_radius(params)),
-        log_channels=tuple(channels), log_period_s=record_period_s)
+        log_channels=tuple(channels), log_period_s=record_period_s, sap_pacer=sap_pacer)
     simulator = Simulator(built.diagram)
     simulator.set_target_realtime_rate(realtime_rate)
     root = simulator.get_mutable_context()
     end = timeline.duration_s if end_time_s is None else end_time_s
     steps = int(round(end / record_period_s))
-    attach_monitor(simulator, built)
+    stats = attach_monitor(simulator, built)
     simulator.Initialize()
     start = time.perf_counter()
     extra = {}
@@ -98,7 +100,8 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
     for key, values in extra.items():
         history[key] = np.asarray(values)
     history["phase"] = [timeline.phase(t) for t in history["t"]]
-    return DriveRun(history=history, wall_s=wall, built=built, simulator=simulator)
+    return DriveRun(history=history, wall_s=wall, built=built, simulator=simulator,
+                    monitor=stats)
 
 
 def logged_history(built, root_context):

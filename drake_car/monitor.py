@@ -1,6 +1,7 @@
 """A divergence monitor: stops a simulation with an error naming the time and the system,
 instead of letting NaNs run into the results."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -15,19 +16,44 @@ class DivergenceError(RuntimeError):
     """The simulation diverged; the message names the time and the system."""
 
 
+@dataclasses.dataclass
+class MonitorStats:
+    """Steps in which the car's generalized velocities did not change at all (bitwise): SAP
+    returned its initial guess, dropping the step's impulses (see systems/sap_pacer.py)."""
+
+    frozen_steps: int = 0
+    first_frozen_time_s: float | None = None
+    steps: int = 0
+
+
 def attach_monitor(simulator, built, *, max_speed=MAX_GENERALIZED_SPEED):
     """Checks the plant's state after every step; on a non-finite or runaway state, finds the
-    first system whose outputs are not finite and stops the simulation naming it."""
+    first system whose outputs are not finite and stops the simulation naming it. Counts the
+    car's frozen steps into the returned MonitorStats."""
     plant = built.plant
     diagram = built.diagram
     nq = plant.num_positions()
     max_speed_squared = max_speed * max_speed
+    instance = built.car.instance
+    stats = MonitorStats()
+    last = {"updates": None, "v": None}
 
     def monitor(root_context):
-        x = plant.GetPositionsAndVelocities(plant.GetMyContextFromRoot(root_context))
+        pc = plant.GetMyContextFromRoot(root_context)
+        x = plant.GetPositionsAndVelocities(pc)
         v = x[nq:]
-        # Cheap test first (every step): Σv² < max² implies max|v| < max, and a NaN or inf
-        # anywhere makes a sum of squares fail the comparison.
+        # A step that ran the plant's discrete update (AdvanceTo and the loggers' publish
+        # times also end short steps that do not) and left the car's velocities unchanged.
+        updates = simulator.get_num_discrete_updates()
+        v_car = plant.GetVelocities(pc, instance)
+        if last["updates"] is not None and updates > last["updates"]:
+            stats.steps += 1
+            if np.array_equal(v_car, last["v"]):
+                stats.frozen_steps += 1
+                if stats.first_frozen_time_s is None:
+                    stats.first_frozen_time_s = root_context.get_time()
+        if last["updates"] is None or updates > last["updates"]:
+            last["updates"], last["v"] = updates, v_car
         if v.dot(v) < max_speed_squared and math.isfinite(x.dot(x)):
             return EventStatus.Succeeded()
         if np.all(np.isfinite(x)) and np.max(np.abs(v), initial=0.0) < max_speed:
@@ -40,6 +66,7 @@ def attach_monitor(simulator, built, *, max_speed=MAX_GENERALIZED_SPEED):
                                            f"with non-finite outputs: {culprit}")
 
     simulator.set_monitor(monitor)
+    return stats
 
 
 def _first_non_finite(diagram, root_context):

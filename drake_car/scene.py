@@ -86,6 +86,8 @@ class SimulatorSettings:
     time_step_s: float = 1e-3
     end_time_s: float = 0.0  # 0: the whole timeline
     record_period_s: float = 0.01
+    # Keep SAP from returning its initial guess near a balance (drake_car/systems/sap_pacer.py).
+    sap_pacer: bool = True
 
 
 @dataclasses.dataclass
@@ -195,6 +197,7 @@ class BuiltScene:
     end_time_s: float | None
     record_period_s: float
     log_channels: tuple = LOG_CHANNELS
+    sap_pacer: bool = True
 
 
 def resolve(scene: Scene) -> BuiltScene:
@@ -238,7 +241,7 @@ def resolve(scene: Scene) -> BuiltScene:
     end = scene.simulator.end_time_s or None
     return BuiltScene(params, friction, tyres, road, timeline, case,
                       scene.simulator.time_step_s, end, scene.simulator.record_period_s,
-                      tuple(scene.logging.channels))
+                      tuple(scene.logging.channels), scene.simulator.sap_pacer)
 
 
 def shipped_scenes():

@@ -32,14 +32,15 @@ def run_scene(scene: Scene, *, meshcat=None, progress=None):
                             duration_s=built.end_time_s or built.timeline.settle_s,
                             time_step_s=built.time_step_s,
                             record_period_s=built.record_period_s, meshcat=meshcat,
-                            realtime_rate=rate)
+                            realtime_rate=rate, sap_pacer=built.sap_pacer)
     else:
         result = run_drive(built.case, built.params, friction=built.friction,
                            tyres=built.tyres, timeline=built.timeline,
                            time_step_s=built.time_step_s,
                            record_period_s=built.record_period_s, end_time_s=built.end_time_s,
                            road_height=built.road_height, meshcat=meshcat, progress=progress,
-                           channels=built.log_channels, realtime_rate=rate)
+                           channels=built.log_channels, realtime_rate=rate,
+                           sap_pacer=built.sap_pacer)
     if mode == "meshcat_html":
         meshcat.StopRecording()
         meshcat.PublishRecording()
@@ -61,7 +62,8 @@ def scene_diagram(scene: Scene, meshcat=None):
                          if drive else None),
         drive_trajectory=(drive_trajectory(built.timeline, rolling_radius(built.params))
                           if drive else None),
-        log_channels=built.log_channels if drive else (), log_period_s=built.record_period_s)
+        log_channels=built.log_channels if drive else (), log_period_s=built.record_period_s,
+        sap_pacer=built.sap_pacer)
 
 
 def _profile():

@@ -49,12 +49,13 @@ def ride_heights(car, plant_context):
 
 def run_settle(params: CarParameters | None = None, *, friction=None, duration_s=5.0,
                time_step_s=DEFAULT_TIME_STEP_S, record_period_s=0.01, tyres=None,
-               road_height=None, meshcat=None, realtime_rate=0.0) -> SettleResult:
+               road_height=None, meshcat=None, realtime_rate=0.0,
+               sap_pacer=True) -> SettleResult:
     """Lets the car settle from its design position; returns loads, heights, overlaps."""
     params = params or CarParameters()
     kwargs = {} if road_height is None else {"road_height": road_height}
     built = build_car_diagram(params, time_step_s=time_step_s, friction=friction, tyres=tyres,
-                              meshcat=meshcat, **kwargs)
+                              meshcat=meshcat, sap_pacer=sap_pacer, **kwargs)
     plant, car = built.plant, built.car
     simulator = Simulator(built.diagram)
     simulator.set_target_realtime_rate(realtime_rate)

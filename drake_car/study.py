@@ -53,6 +53,7 @@ class RunConfig:
     tyres: TyreSetup = dataclasses.field(default_factory=TyreSetup)
     scene_text: str = ""
     scene_file: str = str(PAPER_STUDY_SCENES)
+    sap_pacer: bool = True
 
     @property
     def name(self):
@@ -83,7 +84,7 @@ def run_one(config: RunConfig, d_static, meshcat=None):
     run = run_drive(config.case, params, friction=friction, tyres=config.tyres,
                     timeline=config.timeline, time_step_s=config.time_step_s,
                     record_period_s=config.record_period_s, meshcat=meshcat,
-                    channels=STUDY_CHANNELS)
+                    channels=STUDY_CHANNELS, sap_pacer=config.sap_pacer)
     wall = time.perf_counter() - start
     h = run.history
     out = {c: h[c] for c in ("t", "phase", "rack_m", "x_m", "y_m", "yaw_rad", "speed_mps")}
@@ -103,6 +104,8 @@ def run_one(config: RunConfig, d_static, meshcat=None):
     simulated = float(h["t"][-1])
     info = {"wall_s": wall, "simulated_s": simulated, "real_time_factor": simulated / wall,
             "time_step_s": config.time_step_s, "scheme": config.scheme,
+            "frozen_sap_steps": run.monitor.frozen_steps,
+            "first_frozen_sap_step_s": run.monitor.first_frozen_time_s,
             "lane_change": lane_change_metrics(h, config.timeline)}
     return out, info, run
 

@@ -28,6 +28,9 @@ def test_straight_run_keeps_its_line_and_speed():
     # stiffness, ~0.1 %) and the effective rolling radius estimate (R0 - δ/3): 1 %.
     reached = h["t"] >= TIMELINE.settle_s + TIMELINE.speed_up_s + 0.5
     assert_allclose(h["speed_mps"][reached], TARGET_MPS, rtol=0.01)
+    # Cruising near a balance is where SAP would return its guess (about 300 steps after
+    # 9.2 s at 1 ms without the pacer, systems/sap_pacer.py): with it, none.
+    assert run.monitor.steps >= 9999 and run.monitor.frozen_steps == 0
 
 
 @pytest.fixture(scope="module")

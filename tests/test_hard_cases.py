@@ -15,6 +15,7 @@ from drake_car.model.geometry import SIDES
 from drake_car.model.parameters import CarParameters
 from drake_car.monitor import DivergenceError
 from drake_car.settle import run_settle
+from drake_car.systems.sap_pacer import pacer_kinetic_energy
 from drake_car.systems.strut_friction import StrutFrictionSetup
 
 DMAX = StrutFrictionParameters().dmax_translation_m
@@ -34,13 +35,14 @@ def dry(mu_s=0.4, mu_d=0.3, **law):
 
 
 def energy_channel(built, root):
-    """Kinetic + gravity + coil springs (the plant's) + the tyres' radial springs."""
+    """Kinetic + gravity + coil springs (the plant's) + the tyres' radial springs; the SAP
+    pacer's kinetic energy (a body decoupled from the car) is not the car's."""
     pc = built.plant.GetMyContextFromRoot(root)
     loads = built.tyre.GetOutputPort("tyre_loads").Eval(built.tyre.GetMyContextFromRoot(root))
     stiffness = built.car.params.tyre.radial_stiffness_Npm
     tyres = 0.5 * stiffness * float(np.sum(loads[4:] ** 2))
     return {"energy_J": built.plant.EvalKineticEnergy(pc) + built.plant.EvalPotentialEnergy(pc)
-            + tyres}
+            + tyres - pacer_kinetic_energy(built.plant, pc)}
 
 
 def assert_finite(history):

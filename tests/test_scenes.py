@@ -12,6 +12,7 @@ from drake_car.study import FRICTION_SETS, PAPER_STUDY_SCENES
 
 SCENES = shipped_scenes()
 BASE = {"plant", "scene_graph", "tyres"}
+PACER = {"sap_pacer_target", "sap_pacer_desired_state"}
 DRIVE = {"rack_command_akima", "drive_command", "driveshafts", "applied_forces",
          "desired_state_mux", "desired_state_order"}
 FRICTION = {"strut_friction", "actuation_mux",
@@ -21,6 +22,8 @@ FRICTION = {"strut_friction", "actuation_mux",
 def expected_systems(scene):
     """What a scene calls for, and nothing else."""
     names = set(BASE)
+    if scene.simulator.sap_pacer:
+        names |= PACER
     drive = scene.manoeuvre.kind != "settle"
     names |= DRIVE if drive else {"rack_hold"}
     if scene.friction.mode != "off":
