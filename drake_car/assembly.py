@@ -105,10 +105,12 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
         MultibodyPlantConfig(time_step=time_step_s, discrete_contact_approximation="sap"),
         builder)
     car = add_car(plant, params, model_path=model_path, fixed_chassis=fixed_chassis)
-    # Actuators of the car instance, in the order they are added: the rack servo (add_car),
-    # then the drive servos, then the friction pairs. Each entry: (desired-state port or None,
+    # Actuators of the car instance, in the order they are added: the rack servo and the
+    # compliant top mounts (add_car), then the drive servos, then the friction pairs. Each entry: (desired-state port or None,
     # feed-forward port or None, number of actuators).
     actuator_groups = [("rack", 1)]
+    if car.top_mount_actuators:  # spring-dampers: PD towards zero deflection
+        actuator_groups.append(("top_mount", len(car.top_mount_actuators)))
     drive_actuators = []
     if drive_trajectory is not None:
         if drive_trajectory.rows() != 2:
@@ -166,6 +168,9 @@ def build_car_diagram(params: CarParameters | None = None, *, time_step_s=DEFAUL
         rack_command.set_name("rack_command_akima")
     desired = [rack_command.get_output_port(0)]
     feedforward = [None]
+    if car.top_mount_actuators:
+        desired.append(None)  # zeros: the mount's rest position
+        feedforward.append(None)
     if drive_trajectory is not None:
         drive = builder.AddSystem(TrajectorySource(drive_trajectory, 1))
         drive.set_name("drive_command")

@@ -36,6 +36,8 @@ class CarSettings:
     guide_length_l_m: float = CarParameters().front.guide_length_l_m
     spring_inclination_deg: float = 0.0
     spring_offset_m: float = 0.0
+    top_mount_stiffness_Npm: float = 0.0  # 0: rigid; > 0: an elastomer mount (N/m)
+    top_mount_damping_Nspm: float = CarParameters().front.top_mount_damping_Nspm
 
 
 @dataclasses.dataclass
@@ -209,6 +211,8 @@ def resolve(scene: Scene) -> BuiltScene:
         params.front.guide_length_l_m = scene.car.guide_length_l_m
         params.front.spring_inclination_deg = scene.car.spring_inclination_deg
         params.front.spring_offset_m = scene.car.spring_offset_m
+        params.front.top_mount_stiffness_Npm = scene.car.top_mount_stiffness_Npm
+        params.front.top_mount_damping_Nspm = scene.car.top_mount_damping_Nspm
         params.validate()
         f = scene.friction
         friction = None

@@ -79,7 +79,7 @@ def run_settle(params: CarParameters | None = None, *, friction=None, duration_s
             history[f"d_{s}_m"].append(strut_overlap(car, pc, s))
         history["z_chassis_m"].append(car.body("chassis").EvalPoseInWorld(pc).translation()[2])
         history["max_abs_generalized_velocity"].append(
-            float(np.max(np.abs(plant.GetVelocities(pc)))))
+            float(np.max(np.abs(plant.GetVelocities(pc, car.instance)))))
     wall = time.perf_counter() - start
     history = {k: np.asarray(v) for k, v in history.items()}
     last = history["t"] >= duration_s - 0.5

@@ -213,12 +213,14 @@ def _report(summary):
         lines.append(f"| {name} | {1e3 * pos['dd_left_at_a_m']:.3f} | "
                      f"{1e3 * pos['dd_left_at_b_m']:.3f} | {1e3 * pos['dd_right_at_a_m']:.3f} | "
                      f"{1e3 * pos['dd_right_at_b_m']:.3f} |")
-    lines += ["", "## Runs", "", "| run | wall [s] | real-time factor | lane-change shift [m] |",
-              "|---|---|---|---|"]
+    lines += ["", "## Runs", "", "| run | wall [s] | real-time factor | lane-change shift [m] "
+              "| frozen SAP steps |", "|---|---|---|---|---|"]
     for name, info in sorted(summary["runs"].items()):
         shift = info["lane_change"]["shift_m"] if info["lane_change"] else float("nan")
         lines.append(f"| {name} | {info['wall_s']:.1f} | {info['real_time_factor']:.2f} | "
-                     f"{shift:.3f} |")
+                     f"{shift:.3f} | {info.get('frozen_sap_steps', 'n/a')} |")
+    lines += ["", "Frozen SAP steps: steps in which Drake's solver returned its initial guess "
+              "(`drake_car/systems/sap_pacer.py`); the pacer keeps them at 0."]
     lines += ["", "Figures: " + ", ".join(f"`{f}`" for f in summary["figures"]) +
               "; the Diagram: `diagram.svg`; the replay of run a_3: `a_3.html`.", ""]
     return "\n".join(lines)

@@ -222,3 +222,22 @@ def test_parameter_out_of_range_names_it(group, name, value):
         params.validate()
     with pytest.raises(ParameterError, match=f"{group}.{name}"):
         build_car_diagram(params)
+
+
+def test_compliant_top_mount_adds_three_joints_per_side_and_keeps_the_mass():
+    """A compliant mount is three prismatic joints (x, y, z) per side between the body and the
+    strut's universal joint, each held by a SAP spring-damper actuator; the chassis gives up
+    the mount's mass so the car's mass is unchanged."""
+    rigid, compliant = CarParameters(), CarParameters()
+    compliant.front.top_mount_stiffness_Npm = 2e6
+    built = {name: build_car_diagram(p) for name, p in (("rigid", rigid),
+                                                          ("compliant", compliant))}
+    plants = {name: b.plant for name, b in built.items()}
+    assert (plants["compliant"].num_velocities()
+            == plants["rigid"].num_velocities() + 6)
+    actuators = built["compliant"].car.top_mount_actuators
+    assert [a.name() for a in actuators] == [f"top_mount_{a}_{s}" for s in SIDES for a in "xyz"]
+    assert all(a.get_controller_gains().p == 2e6 for a in actuators)
+    masses = {name: plant.CalcTotalMass(plant.CreateDefaultContext(), [b.car.instance])
+              for (name, plant), b in zip(plants.items(), built.values())}
+    assert masses["compliant"] == pytest.approx(masses["rigid"], rel=1e-12)

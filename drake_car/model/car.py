@@ -41,6 +41,9 @@ class CarModel:
     source: ModelSource
     springs: dict  # (axle, side) -> SpringSetting
     rack_actuator: object
+    # The compliant top mounts' spring-damper actuators (x, y, z per side; empty when rigid),
+    # added right after the rack servo; their desired state is zero.
+    top_mount_actuators: list = dataclasses.field(default_factory=list)
 
     def joint(self, name):
         return self.plant.GetJointByName(name, self.instance)
@@ -118,8 +121,24 @@ def add_car(plant, params: CarParameters | None = None, *, model_path=None,
     rack = plant.GetJointByName("rack_slide", instance)
     rack_actuator = plant.AddJointActuator("rack_servo", rack)
     rack_actuator.set_controller_gains(RACK_SERVO_GAINS)
+    mount_actuators = []
+    f = params.front
+    if f.top_mount_stiffness_Npm > 0:
+        gains = PdControllerGains(p=f.top_mount_stiffness_Npm, d=f.top_mount_damping_Nspm)
+        for side in SIDES:
+            for axis in "xyz":
+                name = f"top_mount_{axis}_{side}"
+                if not plant.HasJointNamed(name, instance):
+                    raise ValueError(
+                        f"front.top_mount_stiffness_Npm = {f.top_mount_stiffness_Npm} asks for a "
+                        f"compliant top mount, but the model {source.label} has no joint "
+                        f"'{name}' (generate it from these parameters)")
+                actuator = plant.AddJointActuator(name, plant.GetJointByName(name, instance))
+                actuator.set_controller_gains(gains)
+                mount_actuators.append(actuator)
     return CarModel(params=params, plant=plant, instance=instance, source=source,
-                    springs=springs, rack_actuator=rack_actuator)
+                    springs=springs, rack_actuator=rack_actuator,
+                    top_mount_actuators=mount_actuators)
 
 
 def strut_overlap(car: CarModel, context, side):

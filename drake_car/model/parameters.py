@@ -96,6 +96,22 @@ class FrontSuspensionParameters:
     spring_inclination_deg: float = 0.0  # spring line vs strut axis, lateral plane (top inboard +)
     # Paper section 4: 1250 N s/m in the cylindrical joint for the lubricated strut.
     strut_damping_Nspm: float = 1250.0
+    # Top mount: 0 = rigid (the strut's universal joint hangs from the body, the paper's
+    # model); > 0 = an elastomer mount of this translational stiffness (N/m, all directions),
+    # three prismatic joints held by SAP's implicit PD (so a stiff mount stays stable at the
+    # car's step). [EST] damping: 2000 N s/m, of the order of a rubber mount's loss factor
+    # (~0.2) at the strut's ~10 Hz wheel hop with a 1e6 N/m mount.
+    top_mount_stiffness_Npm: float = 0.0
+    top_mount_damping_Nspm: float = 2000.0
+    # [EST] the mount's inner sleeve and bearing; two light links carry the joints.
+    top_mount_body_kg: float = 0.5
+    top_mount_link_kg: float = 0.05
+
+    def top_mount_mass_kg(self):
+        """Mass of one compliant mount's moving parts (0 for the rigid mount)."""
+        if self.top_mount_stiffness_Npm == 0.0:
+            return 0.0
+        return self.top_mount_body_kg + 2 * self.top_mount_link_kg
     # [EST] steering: rack ahead of the axle ("front steer"), tie rods from rack ends to arms.
     rack_x_m: float = 0.15
     rack_height_m: float = 0.29  # chosen for small bump steer (< 1 deg over +-60 mm)
@@ -172,7 +188,9 @@ class CarParameters:
             "spring_upper_height_m"])
         _positive(self.tyre, "tyre", [
             "unloaded_radius_m", "width_m", "radial_stiffness_Npm"])
-        _nonnegative(self.front, "front", ["strut_damping_Nspm"])
+        _nonnegative(self.front, "front", ["strut_damping_Nspm", "top_mount_stiffness_Npm",
+                                           "top_mount_damping_Nspm"])
+        _positive(self.front, "front", ["top_mount_body_kg", "top_mount_link_kg"])
         _nonnegative(self.rear, "rear", ["wheel_damping_Nspm"])
         _nonnegative(self.tyre, "tyre", ["radial_damping_Nspm"])
         f = self.front
@@ -213,7 +231,8 @@ class CarParameters:
         """Mass of every body except the chassis (sprung body)."""
         m = self.mass
         front_corner = (m.front_wheel_kg + m.front_knuckle_kg + m.front_lower_arm_kg
-                        + m.piston_rod_kg + m.strut_slider_kg + m.tie_rod_kg)
+                        + m.piston_rod_kg + m.strut_slider_kg + m.tie_rod_kg
+                        + self.front.top_mount_mass_kg())
         rear_corner = m.rear_wheel_kg + m.rear_carrier_kg
         return 2 * front_corner + 2 * rear_corner + m.rack_kg
 

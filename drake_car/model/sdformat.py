@@ -108,7 +108,8 @@ def chassis_mass_and_com(params: CarParameters):
     # Parts: take their x positions from the hard points (front parts near x = 0, rear near -L).
     x_front, x_rear = 0.0, -params.wheelbase_m
     front_parts = 2 * (m.front_wheel_kg + m.front_knuckle_kg + m.front_lower_arm_kg
-                       + m.piston_rod_kg + m.strut_slider_kg + m.tie_rod_kg) + m.rack_kg
+                       + m.piston_rod_kg + m.strut_slider_kg + m.tie_rod_kg
+                       + params.front.top_mount_mass_kg()) + m.rack_kg
     rear_parts = 2 * (m.rear_wheel_kg + m.rear_carrier_kg)
     x_total = -m.cog_to_front_axle_m
     x_chassis = (m.total_mass_kg * x_total - front_parts * x_front
@@ -193,8 +194,24 @@ def generate_sdformat(params: CarParameters) -> str:
         # The strut hangs from the top mount: a universal joint (the mount tilts, the rod does
         # not spin against the body), then the cylindrical pair with the cylinder (knuckle) as
         # the child, so the pair's tree inertia is the knuckle's and the wheel's (see module doc).
-        parts.append(_joint(f"top_mount_joint_{side_name}", "universal", "chassis", rod, p.top_mount,
-                            axis=p.top_mount_axes[0], axis2=p.top_mount_axes[1]))
+        mount_parent = "chassis"
+        if f.top_mount_stiffness_Npm > 0:
+            # Compliant mount: chassis -x- link -y- link -z- mount body, three prismatic joints
+            # (their spring-dampers are SAP PD actuators, drake_car/model/car.py).
+            parent = "chassis"
+            for axis_name, axis, mass in (("x", [1, 0, 0], f.top_mount_link_kg),
+                                          ("y", [0, 1, 0], f.top_mount_link_kg),
+                                          ("z", [0, 0, 1], f.top_mount_body_kg)):
+                child = (f"top_mount_body_{side_name}" if axis_name == "z"
+                         else f"top_mount_link_{axis_name}_{side_name}")
+                parts.append(_link(child, p.top_mount, _inertial(
+                    p.top_mount, mass, p.top_mount, 1e-4, 1e-4, 1e-4)))
+                parts.append(_joint(f"top_mount_{axis_name}_{side_name}", "prismatic", parent,
+                                    child, p.top_mount, axis=axis))
+                parent = child
+            mount_parent = parent
+        parts.append(_joint(f"top_mount_joint_{side_name}", "universal", mount_parent, rod,
+                            p.top_mount, axis=p.top_mount_axes[0], axis2=p.top_mount_axes[1]))
         parts.append(_joint(f"strut_revolute_{side_name}", "revolute", rod, slider, p.guide,
                             axis=p.strut_axis_up))
         parts.append(_joint(f"strut_prismatic_{side_name}", "prismatic", slider, knuckle,
