@@ -61,7 +61,7 @@ def settle_wall_per_simulated_second(friction, sim_s, time_step_s):
 
 def lane_change_wall_s(case, number, scene_text, time_step_s):
     config = RunConfig(case, number, time_step_s=time_step_s, scene_text=scene_text)
-    _, info, _ = run_one(config, {"left": 0.0, "right": 0.0})  # Δd offsets: unused here
+    _, info, _ = run_one(config)
     return info["wall_s"]
 
 

@@ -34,17 +34,16 @@ SYSTEMS = {
     "logged channels": ("systems/channels.py", ("_calc_chassis", "_calc_steering",
                                                 "_calc_struts")),
 }
-D_OFFSET = {"left": 0.0, "right": 0.0}
 
 
 def measure(case, number, args):
     c = RunConfig(case, number, time_step_s=args.time_step_s)
-    _, info, _ = run_one(c, D_OFFSET)
+    _, info, _ = run_one(c)
     wall = info["wall_s"]
     steps = round(info["simulated_s"] / args.time_step_s)
     profiler = cProfile.Profile()
     profiler.enable()
-    run_one(c, D_OFFSET)
+    run_one(c)
     profiler.disable()
     stats = pstats.Stats(profiler).stats
     cpp = sum(v[2] for k, v in stats.items() if k[0] == "~" and "AdvanceTo" in k[2])

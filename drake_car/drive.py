@@ -39,7 +39,8 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
               profile: LaneChangeProfile | None = None, time_step_s=DEFAULT_TIME_STEP_S,
               record_period_s=0.01, end_time_s=None, meshcat=None, progress=None,
               extra_channels=None, rack=None, road_height=None, drive_reaction="driveshaft",
-              channels=LOG_CHANNELS, realtime_rate=0.0, sap_pacer=True):
+              channels=LOG_CHANNELS, realtime_rate=0.0, sap_pacer=True,
+              initial_positions=None):
     """Simulates the manoeuvre; returns the history sampled every ``record_period_s``.
 
     The history holds "t", "phase" and the columns of the logged ``channels`` (groups of
@@ -54,7 +55,10 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
     ``rack`` (a PiecewisePolynomial) replaces the lane change's rack command altogether;
     ``road_height`` is a profile of ``drake_car.law.road`` (default flat); ``realtime_rate``
     > 0 paces the run (for watching it live in ``meshcat``); ``sap_pacer`` False leaves out the
-    pacer of ``drake_car.systems.sap_pacer`` (to measure what it prevents)."""
+    pacer of ``drake_car.systems.sap_pacer`` (to measure what it prevents);
+    ``initial_positions``: the car's generalized positions at t = 0, at rest (e.g. a settled
+    state, ``SettleResult.positions``; default: the model's design position, from which the
+    car drops onto its tyres)."""
     if case not in CASES:
         raise ValueError(f"case {case!r} must be one of {CASES}")
     if not record_period_s > 0:
@@ -74,6 +78,13 @@ def run_drive(case="a", params: CarParameters | None = None, *, friction=None,
     simulator = Simulator(built.diagram)
     simulator.set_target_realtime_rate(realtime_rate)
     root = simulator.get_mutable_context()
+    if initial_positions is not None:
+        plant_context = built.plant.GetMyContextFromRoot(root)
+        expected = built.plant.num_positions(built.car.instance)
+        if len(initial_positions) != expected:
+            raise ValueError(f"initial_positions has {len(initial_positions)} entries; the car "
+                             f"has {expected} generalized positions")
+        built.plant.SetPositions(plant_context, built.car.instance, initial_positions)
     end = timeline.duration_s if end_time_s is None else end_time_s
     steps = int(round(end / record_period_s))
     stats = attach_monitor(simulator, built)

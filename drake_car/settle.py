@@ -32,9 +32,12 @@ class SettleResult:
         data = dataclasses.asdict(self)
         data.pop("history")
         data.pop("html")
+        data.pop("positions")
         return data
 
     html: str | None = None  # the Meshcat replay, when the scene asked for one
+    # The car's generalized positions at the end (the settled state, to start drives from).
+    positions: object = None
 
 
 def ride_heights(car, plant_context):
@@ -93,4 +96,5 @@ def run_settle(params: CarParameters | None = None, *, friction=None, duration_s
         loop_closure_error_m=loop_closure_error(car, pc),
         max_abs_generalized_velocity_last_half_s=float(
             np.max(history["max_abs_generalized_velocity"][last])),
-        duration_s=duration_s, time_step_s=time_step_s, wall_s=wall, history=history)
+        duration_s=duration_s, time_step_s=time_step_s, wall_s=wall, history=history,
+        positions=plant.GetPositions(pc, car.instance).copy())

@@ -16,6 +16,7 @@ from drake_car.drive import lane_change_metrics, run_drive
 from drake_car.manoeuvre import Timeline
 from drake_car.model.geometry import SIDES
 from drake_car.scene import SCENES_DIR, load_scene, resolve
+from drake_car.settle import run_settle
 
 # Paper section 4: (μs, μd); set 1 is the lubricated strut with 1250 N s/m of damping.
 FRICTION_SETS = {1: (0.0, 0.0), 2: (0.2, 0.15), 3: (0.4, 0.3)}
@@ -77,15 +78,54 @@ FRICTION_CHANNELS = {"creep_{side}_m": "creep", "beta_{side}": "beta", "mu1_{sid
                      "N_{side}_N": "N", "Ffric_{side}_N": "friction"}
 
 
-def run_one(config: RunConfig, d_static, meshcat=None):
-    """Simulates one run; returns (columns RUN_COLUMNS, info)."""
+@dataclasses.dataclass
+class StaticEquilibrium:
+    """The car at rest on its tyres with lubricated struts: where every run starts (as a
+    multibody code's static analysis precedes its dynamic run) and what Δd is measured from
+    (the paper's "increments from static equilibrium")."""
+
+    positions: np.ndarray  # the car's generalized positions
+    overlap_m: dict  # d per side
+    corner_loads_N: dict
+    max_abs_velocity: float  # of the car's generalized velocities over the last 0.5 s
+    time_step_s: float
+    duration_s: float
+
+
+_EQUILIBRIA = {}
+EQUILIBRIUM_SETTLE_S = 6.0
+
+
+def static_equilibrium(params, time_step_s=DEFAULT_TIME_STEP_S,
+                       duration_s=EQUILIBRIUM_SETTLE_S) -> StaticEquilibrium:
+    """Settles the lubricated car (friction off; the strut damping does not change the
+    equilibrium and is set to the lubricated 1250 N s/m so that it settles fast). Cached."""
+    params = dataclasses.replace(params, front=dataclasses.replace(
+        params.front, strut_damping_Nspm=1250.0))
+    key = (repr(params), time_step_s, duration_s)
+    if key not in _EQUILIBRIA:
+        settled = run_settle(params, duration_s=duration_s, time_step_s=time_step_s)
+        _EQUILIBRIA[key] = StaticEquilibrium(
+            settled.positions, settled.strut_overlap_m, settled.corner_loads_N,
+            settled.max_abs_generalized_velocity_last_half_s, time_step_s, duration_s)
+    return _EQUILIBRIA[key]
+
+
+def run_one(config: RunConfig, start: StaticEquilibrium | None = None, meshcat=None):
+    """Simulates one run from ``start`` (default: the static equilibrium of the run's car at
+    the default step); returns (columns RUN_COLUMNS, info, the DriveRun). Δd is measured from
+    the start's overlaps."""
     params, friction = config.car()
-    start = time.perf_counter()
+    if start is None:
+        start = static_equilibrium(params)
+    d_static = start.overlap_m
+    began = time.perf_counter()
     run = run_drive(config.case, params, friction=friction, tyres=config.tyres,
                     timeline=config.timeline, time_step_s=config.time_step_s,
                     record_period_s=config.record_period_s, meshcat=meshcat,
-                    channels=STUDY_CHANNELS, sap_pacer=config.sap_pacer)
-    wall = time.perf_counter() - start
+                    channels=STUDY_CHANNELS, sap_pacer=config.sap_pacer,
+                    initial_positions=start.positions)
+    wall = time.perf_counter() - began
     h = run.history
     out = {c: h[c] for c in ("t", "phase", "rack_m", "x_m", "y_m", "yaw_rad", "speed_mps")}
     dt = np.gradient(h["t"])

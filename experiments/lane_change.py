@@ -26,25 +26,23 @@ from drake_car.drive import rolling_radius
 from drake_car.manoeuvre import Timeline, drive_trajectory, rack_trajectory
 from drake_car.outputs import Progress, output_folder, provenance, write_csv, write_json
 from drake_car.pictures import start_meshcat, write_diagram_svg
-from drake_car.settle import run_settle
-from drake_car.model.parameters import CarParameters
 from drake_car.scene import SceneError, dump_scene
 from drake_car.study import (
     PAPER_STUDY_SCENES,
     CASES, DISPLACEMENT_THRESHOLD_M, FRICTION_SETS, SYMMETRY_TOLERANCE, RunConfig,
-    evaluate_claims, place_values, run_one)
+    evaluate_claims, place_values, run_one, static_equilibrium)
 from drake_car.study_plots import all_figures
 
 
 def _work(args):
-    config, d_static = args
-    columns, info, _ = run_one(config, d_static)
+    config, start = args
+    columns, info, _ = run_one(config, start)
     return config.name, columns, info
 
 
-def run_all(configs, d_static, jobs, progress):
+def run_all(configs, start, jobs, progress):
     results = {}
-    tasks = [(c, d_static) for c in configs]
+    tasks = [(c, start) for c in configs]
     if jobs > 1:
         with multiprocessing.get_context("spawn").Pool(jobs) as pool:
             for name, columns, info in pool.imap_unordered(_work, tasks):
@@ -80,27 +78,34 @@ def main():
     timeline = Timeline(settle_s=default.settle_s * s, speed_up_s=default.speed_up_s * s,
                         straight_s=default.straight_s * s,
                         lane_change_s=default.lane_change_s * s, calm_s=default.calm_s * s)
-    start = time.perf_counter()
-    settled = run_settle(CarParameters(), duration_s=6.0, time_step_s=args.time_step_s)
-    d_static = settled.strut_overlap_m
+    began = time.perf_counter()
     configs = [RunConfig(case, n, time_step_s=args.time_step_s, timeline=timeline,
                          scene_text=args.scene_text, scene_file=args.scene)
                for case in CASES for n in FRICTION_SETS]
     try:
         scenes = {c.name: c.scene() for c in configs}
+        geometry = {repr(dataclasses.replace(c.car()[0], front=dataclasses.replace(
+            c.car()[0].front, strut_damping_Nspm=0.0))) for c in configs}
     except SceneError as e:
         p.error(str(e))
+    if len(geometry) != 1:
+        p.error("the study's runs must share the car (all but friction and strut damping): "
+                "they start from one static equilibrium")
+    # Every run starts at rest from the lubricated car's static equilibrium; Δd is measured
+    # from its overlaps (the paper's "increments from static equilibrium").
+    start = static_equilibrium(configs[0].car()[0], time_step_s=args.time_step_s)
+    d_static = start.overlap_m
     progress = Progress("lane-change study", len(configs))
-    results = run_all(configs, d_static, args.jobs, progress)
+    results = run_all(configs, start, args.jobs, progress)
     runs = {name: cols for name, (cols, _) in results.items()}
-    claims, shifts = evaluate_claims(runs, timeline, settled.corner_loads_N)
+    claims, shifts = evaluate_claims(runs, timeline, start.corner_loads_N)
     half = None
     if not args.no_verify and not all(c["reproduced"] for c in claims):
         half_configs = [dataclasses.replace(c, time_step_s=c.time_step_s / 2) for c in configs]
         half_progress = Progress("half-step check", len(half_configs))
-        half_results = run_all(half_configs, d_static, args.jobs, half_progress)
+        half_results = run_all(half_configs, start, args.jobs, half_progress)
         half_claims, _ = evaluate_claims({n: cols for n, (cols, _) in half_results.items()},
-                                         timeline, settled.corner_loads_N)
+                                         timeline, start.corner_loads_N)
         half = {"time_step_s": args.time_step_s / 2,
                 "verdicts": [c["reproduced"] for c in half_claims],
                 "numbers": [c["number"] for c in half_claims]}
@@ -130,10 +135,10 @@ def main():
                                       timeline, rolling_radius(params)))
         write_diagram_svg(built.diagram, out / "diagram.svg")
         if not args.no_html:
-            _replay(a3, d_static, out / "a_3.html")
-        wall = time.perf_counter() - start
-        summary = _summary(runs, results, claims, shifts, timeline, d_static, half, wall,
-                           settled, figures)
+            _replay(a3, start, out / "a_3.html")
+        wall = time.perf_counter() - began
+        summary = _summary(runs, results, claims, shifts, timeline, half, wall, start,
+                           figures)
         write_json(out / "summary.json", summary)
         (out / "report.md").write_text(_report(summary))
     failed = [c["claim"] for c in claims if not c["reproduced"]]
@@ -146,16 +151,16 @@ def _profile():
     return calibrated_profile()
 
 
-def _replay(config, d_static, path):
+def _replay(config, start, path):
     meshcat = start_meshcat()
     meshcat.StartRecording(frames_per_second=25.0)
-    run_one(config, d_static, meshcat=meshcat)
+    run_one(config, start, meshcat=meshcat)
     meshcat.StopRecording()
     meshcat.PublishRecording()
     path.write_text(meshcat.StaticHtml())
 
 
-def _summary(runs, results, claims, shifts, timeline, d_static, half, wall, settled, figures):
+def _summary(runs, results, claims, shifts, timeline, half, wall, start, figures):
     rod_positions = {}
     for name, h in runs.items():
         rod_positions[name] = {}
@@ -169,8 +174,11 @@ def _summary(runs, results, claims, shifts, timeline, d_static, half, wall, sett
         "rod_shift_b_minus_a_m": shifts,
         "runs": {name: info for name, (_, info) in results.items()},
         "half_step_check": half,
-        "static_equilibrium": {"overlap_m": d_static,
-                               "corner_loads_N": settled.corner_loads_N},
+        "static_equilibrium": {
+            "overlap_m": start.overlap_m, "corner_loads_N": start.corner_loads_N,
+            "how": f"the lubricated car settled for {start.duration_s:g} s at "
+                   f"{start.time_step_s:g} s; every run starts from it at rest",
+            "max_abs_velocity_last_half_s": start.max_abs_velocity},
         "timeline_s": dataclasses.asdict(timeline),
         "figures": figures,
         "wall_s": wall,
