@@ -41,6 +41,16 @@ def load_scene_option(p, args):
         p.error(str(e))
 
 
+def resolve_or_exit(p, scene):
+    """The scene's parameters and setups (drake_car.scene.resolve); a bad value exits with the
+    scene's error message."""
+    from drake_car.scene import SceneError, resolve
+    try:
+        return resolve(scene)
+    except SceneError as e:
+        p.error(str(e))
+
+
 def _checked(name, valid, requirement):
     def check(text):
         try:

@@ -31,7 +31,7 @@ from drake_car.assembly import TyreSetup
 from drake_car.law.tyre_slip import SlipOptions
 from drake_car.monitor import DivergenceError
 from drake_car.outputs import Progress, output_folder, provenance, write_csv, write_json
-from drake_car.study import RunConfig, run_one, static_equilibrium
+from drake_car.study import PAPER_STUDY_SCENES, RunConfig, run_one, static_equilibrium
 
 TYRES = {
     "mf_combined_relaxed": TyreSetup(),
@@ -55,24 +55,24 @@ class Case:
     sap_pacer: bool = True
 
 
-def simulate(case: Case, scale, start):
+def simulate(case: Case, scale, start, scene_file, scene_text):
     config = RunConfig(case.scene[0], int(case.scene[2]), time_step_s=case.time_step_s,
                        scheme=case.scheme, record_period_s=0.01, tyres=TYRES[case.tyre_model],
-                       sap_pacer=case.sap_pacer)
+                       sap_pacer=case.sap_pacer, scene_file=scene_file, scene_text=scene_text)
     if scale != 1.0:
         t = config.timeline
         config.timeline = dataclasses.replace(
             t, settle_s=t.settle_s * scale, speed_up_s=t.speed_up_s * scale,
             straight_s=t.straight_s * scale, lane_change_s=t.lane_change_s * scale,
             calm_s=t.calm_s * scale)
-    start = time.perf_counter()
+    began = time.perf_counter()
     try:
         columns, info, _ = run_one(config, start)
-        return columns, info, time.perf_counter() - start, "ok"
+        return columns, info, time.perf_counter() - began, "ok"
     except DivergenceError as e:
-        return None, None, time.perf_counter() - start, f"diverged: {e}"
+        return None, None, time.perf_counter() - began, f"diverged: {e}"
     except RuntimeError as e:  # a system refused the state (e.g. a rod out of its guide)
-        return None, None, time.perf_counter() - start, f"failed: {e}"
+        return None, None, time.perf_counter() - began, f"failed: {e}"
 
 
 def dd_difference(a, b):
@@ -91,7 +91,16 @@ def main():
                    default=1e-5, help="step of the explicit friction scheme on a_3 (0: skip)")
     p.add_argument("--scale_time", type=_common.positive("scale_time"), default=1.0,
                    help="shorten the timeline (quick checks)")
+    p.add_argument("--scene", default=str(PAPER_STUDY_SCENES),
+                   help="scenes file with entries a_1 and a_3 (default: %(default)s)")
+    p.add_argument("--scene_text", default="", help="YAML laid over both scenes")
     args = p.parse_args()
+    try:
+        for name in SCENES:
+            RunConfig(name[0], int(name[2]), scene_file=args.scene,
+                      scene_text=args.scene_text).car()
+    except ValueError as e:  # SceneError names the file, the entry and the key
+        p.error(str(e))
     try:
         steps = sorted({float(s) for s in args.steps.split(",")}, reverse=True)
     except ValueError:
@@ -111,12 +120,13 @@ def main():
     progress = Progress("accuracy-cost sweep", len(cases) + 2 * len(SCENES))
     # One initial state for every run, whatever its step: the lubricated car's static
     # equilibrium (a_1 and a_3 share the car; they differ in friction and strut damping).
-    start = static_equilibrium(RunConfig("a", 1).car()[0])
+    start = static_equilibrium(RunConfig("a", 1, scene_file=args.scene,
+                                         scene_text=args.scene_text).car()[0])
     references, reference_info, reference_runs = {}, {}, {}
     for scene in SCENES:
         for dt in (args.reference_step_s, 2 * args.reference_step_s):
             columns, info, wall, status = simulate(Case(scene, dt), args.scale_time,
-                                                   start)
+                                                   start, args.scene, args.scene_text)
             if columns is None:
                 raise SystemExit(f"reference {scene} at {dt:g} s {status}")
             if info["frozen_sap_steps"]:
@@ -136,7 +146,8 @@ def main():
         if case in reference_runs:  # the reference's own runs: not repeated
             columns, info, wall, status = reference_runs[case]
         else:
-            columns, info, wall, status = simulate(case, args.scale_time, start)
+            columns, info, wall, status = simulate(case, args.scale_time, start, args.scene,
+                                                   args.scene_text)
         reference = references[(case.scene, args.reference_step_s)]
         max_error = final = simulated = float("nan")
         frozen = -1

@@ -10,6 +10,7 @@ Example (break-away under a slow ramp):
   python experiments/friction_rig.py --out results/rig --force_rate_Nps 1000 --duration_s 1
 """
 
+import dataclasses
 import math
 
 import _common  # noqa: F401
@@ -43,14 +44,23 @@ def main():
     p.add_argument("--dv_mps", type=P("dv_mps"), default=1e-4)
     p.add_argument("--dmax_m", type=P("dmax_m"), default=5e-6)
     p.add_argument("--shape", choices=["cubic", "linear"], default="cubic")
+    _common.add_scene_options(p)
     args = p.parse_args()
-    try:
-        law = StrutFrictionParameters(mu_s=args.mu_s, mu_d=args.mu_d,
-                                      dv_translation_mps=args.dv_mps,
-                                      dmax_translation_m=args.dmax_m,
-                                      beta_shape=args.shape, creep_shape=args.shape)
-    except ValueError as e:
-        p.error(f"friction parameters: {e}")
+    scene = _common.load_scene_option(p, args)
+    if scene is not None:  # the law and the scheme from the scene's friction section
+        friction = _common.resolve_or_exit(p, scene).friction
+        if friction is None:
+            p.error(f"--scene: scene {scene.name!r} has friction mode 'off'; the rig needs a "
+                    "friction law")
+        law, args.scheme = friction.params, friction.scheme
+    else:
+        try:
+            law = StrutFrictionParameters(mu_s=args.mu_s, mu_d=args.mu_d,
+                                          dv_translation_mps=args.dv_mps,
+                                          dmax_translation_m=args.dmax_m,
+                                          beta_shape=args.shape, creep_shape=args.shape)
+        except ValueError as e:
+            p.error(f"friction parameters: {e}")
     if args.time_step_s > args.duration_s:
         p.error("--time_step_s must not exceed --duration_s")
     options = RigOptions(
@@ -62,7 +72,8 @@ def main():
     history = simulate_rig(options, law, duration_s=args.duration_s)
     with output_folder(args.out) as out:
         write_csv(out / "history.csv", history)
-        write_json(out / "rig.json", provenance(options=vars(args) | {"out": str(args.out)}))
+        write_json(out / "rig.json", provenance(
+            options=vars(args) | {"out": str(args.out)}, law=dataclasses.asdict(law)))
         plot(history, out / "history.png", args)
     print(f"final x = {history['x_m'][-1]:.6g} m, v = {history['v_mps'][-1]:.3g} m/s; "
           f"wrote {args.out}/history.csv")

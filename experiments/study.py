@@ -28,13 +28,17 @@ from drake_car.model.parameters import CarParameters
 from drake_car.outputs import Progress, output_folder, provenance, write_csv, write_json
 from drake_car.pictures import record_html, start_meshcat, write_diagram_svg
 from drake_car.settle import run_settle
+from drake_car.scene import SceneError
 from drake_car.study import FRICTION_SETS, RunConfig
 
 
 
-def car_for_set(number):
+def car_for_set(number, scene_file=None, scene_text=""):
     """The car and strut friction of the paper's friction set ``number`` (1, 2, 3)."""
-    return RunConfig("a", number).car()
+    config = RunConfig("a", number, scene_text=scene_text)
+    if scene_file:
+        config.scene_file = scene_file
+    return config.car()
 
 
 def main():
@@ -43,12 +47,21 @@ def main():
                    help="simulated settling time per run (s)")
     p.add_argument("--html_s", type=_common.positive("html_s"), default=1.5,
                    help="simulated time recorded in car.html (s)")
+    p.add_argument("--scene", default=None,
+                   help="the study's scenes (entries a_1 ... b_3; default "
+                        "scenes/paper_study.yaml)")
+    p.add_argument("--scene_text", default="",
+                   help="YAML laid over every friction set's scene")
     args = p.parse_args()
+    try:
+        cars = {n: car_for_set(n, args.scene, args.scene_text) for n in FRICTION_SETS}
+    except (SceneError, ValueError) as e:
+        p.error(str(e))
     progress = Progress("study", 6)
     figures = {}
     with output_folder(args.out) as out:
         start = time.perf_counter()
-        lubricated = run_settle(CarParameters(), duration_s=args.settle_s)
+        lubricated = run_settle(cars[1][0], duration_s=args.settle_s)
         (out / "settle").mkdir()
         summary = lubricated.summary() | {"provenance": provenance()}
         write_json(out / "settle" / "settle.json", summary)
@@ -56,7 +69,7 @@ def main():
         settle_script.plot(lubricated, out / "settle" / "settle.png")
         progress.update(1, "settled the lubricated car")
 
-        sweep = run_kinematics_sweep(CarParameters())
+        sweep = run_kinematics_sweep(cars[1][0])
         (out / "kinematics").mkdir()
         write_csv(out / "kinematics" / "kinematics.csv", sweep.kinematics)
         write_csv(out / "kinematics" / "steering.csv", sweep.steering)
@@ -66,7 +79,7 @@ def main():
 
         runs = {}
         for number in FRICTION_SETS:
-            params, friction = car_for_set(number)
+            params, friction = cars[number]
             runs[number] = run_settle(params, friction=friction, duration_s=args.settle_s)
             progress.update(2 + number, f"phase I, friction set {number}")
         columns = {"t": runs[1].history["t"]}
@@ -77,7 +90,7 @@ def main():
         write_csv(out / "phase_I.csv", columns)
         figures["phase_I"] = plot_phase_one(columns, out / "phase_I.png")
 
-        params, friction = car_for_set(3)
+        params, friction = cars[3]
         meshcat = start_meshcat()
         built = build_car_diagram(params, friction=friction, meshcat=meshcat)
         write_diagram_svg(built.diagram, out / "diagram.svg")

@@ -24,10 +24,13 @@ def main():
     p.add_argument("--travel_m", type=_common.positive("travel_m"), default=0.08)
     p.add_argument("--points", type=int, default=33)
     p.add_argument("--model", default=None, help="a car model file to use instead of urdf/")
+    _common.add_scene_options(p)
     args = p.parse_args()
     if args.points < 3:
         p.error("--points must be >= 3")
-    sweep = run_kinematics_sweep(CarParameters(), travel_m=args.travel_m, points=args.points,
+    scene = _common.load_scene_option(p, args)  # the car's geometry from a scene
+    params = CarParameters() if scene is None else _common.resolve_or_exit(p, scene).params
+    sweep = run_kinematics_sweep(params, travel_m=args.travel_m, points=args.points,
                                  model_path=args.model)
     with output_folder(args.out) as out:
         write_csv(out / "kinematics.csv", sweep.kinematics)

@@ -120,3 +120,59 @@ def test_scripts_take_scenes(tmp_path):
               "--scene_text", "tyres: {model: brush}", check=False)
     assert bad.returncode == 2 and "tyres.model" in bad.stderr
     assert not (tmp_path / "bad").exists()
+
+
+SCRIPTS = sorted(path.name for path in (ROOT / "experiments").glob("*.py")
+                 if not path.name.startswith("_"))
+
+
+@pytest.mark.parametrize("script", SCRIPTS)
+def test_every_experiment_script_takes_scene_options(tmp_path, script):
+    """--scene_text is parsed as a scene: an unknown key stops the script with exit 2, the key
+    named, before anything is written."""
+    out = tmp_path / "out"
+    bad = run(script, "--out", out, "--scene_text", "wheels: {count: 5}", check=False)
+    assert bad.returncode == 2 and "wheels" in bad.stderr, bad.stderr[-2000:]
+    assert not out.exists()
+
+
+def test_kinematics_and_rig_take_their_car_and_law_from_a_scene(tmp_path):
+    out = tmp_path / "kinematics"
+    run("suspension_kinematics.py", "--out", out, "--points", 3, "--scene_text",
+        "car: {ball_joint_offset_b_m: 0.06}")
+    assert (out / "kinematics.csv").is_file()
+    out = tmp_path / "rig"
+    run("friction_rig.py", "--out", out, "--duration_s", 0.05, "--force_N", 100,
+        "--scene", "scenes/car.yaml:settle_jammed")
+    assert json.loads((out / "rig.json").read_text())["law"]["mu_s"] == 0.4
+    off = run("friction_rig.py", "--out", tmp_path / "off", "--scene", "scenes/car.yaml:settle",
+              check=False)
+    assert off.returncode == 2 and "friction mode 'off'" in off.stderr
+
+
+def test_main_job_smoke(tmp_path):
+    """The README's main job on a timeline shortened 20 times (no half-step check, no replay):
+    it writes the report, the six runs and the figures."""
+    out = tmp_path / "study"
+    run("lane_change.py", "--out", out, "--scale_time", 0.05, "--jobs", 1, "--no_verify",
+        "--no_html")
+    report = (out / "report.md").read_text()
+    assert "| 1 |" in report and "| 6 |" in report
+    for name in ("a_1", "a_2", "a_3", "b_1", "b_2", "b_3"):
+        assert (out / f"{name}.csv").is_file()
+    assert (out / "fig14_a.png").is_file() and (out / "diagram.svg").is_file()
+
+
+def test_accuracy_sweep_smoke(tmp_path):
+    """The accuracy sweep with its reference at 0.1 ms on a timeline shortened 30 times: the CSV
+    has the issue's columns and a row per case, the plot is drawn."""
+    out = tmp_path / "accuracy"
+    run("accuracy_cost.py", "--out", out, "--scale_time", 0.033, "--reference_step_s", 1e-4,
+        "--steps", "5e-3,2e-3,1e-3,5e-5", "--explicit_step_s", 0)
+    header = (out / "accuracy_cost.csv").read_text().splitlines()[0].split(",")
+    for column in ("scene", "time_step_s", "friction_scheme", "tyre_model",
+                   "max_abs_dd_error_m", "final_dd_error_m", "wall_s", "real_time_factor"):
+        assert column in header
+    rows = (out / "accuracy_cost.csv").read_text().splitlines()[1:]
+    assert len(rows) == 2 * (4 + 6 + 2)
+    assert (out / "accuracy_cost.png").is_file()
