@@ -90,6 +90,9 @@ class SimulatorSettings:
     record_period_s: float = 0.01
     # Keep SAP from returning its initial guess near a balance (drake_car/systems/sap_pacer.py).
     sap_pacer: bool = True
+    # Where a drive starts: at rest in the lubricated car's static equilibrium (as the study's
+    # runs do), or at the model's design position (the car then drops onto its tyres).
+    start: str = "static_equilibrium"  # static_equilibrium | design
 
 
 @dataclasses.dataclass
@@ -134,6 +137,7 @@ CHOICES = {
     ("manoeuvre", "kind"): ("settle", "straight", "lane_change"),
     ("manoeuvre", "case"): ("a", "b"),
     ("visualization", "mode"): ("none", "meshcat_live", "meshcat_html"),
+    ("simulator", "start"): ("static_equilibrium", "design"),
 }
 
 
@@ -200,6 +204,7 @@ class BuiltScene:
     record_period_s: float
     log_channels: tuple = LOG_CHANNELS
     sap_pacer: bool = True
+    start: str = "static_equilibrium"
 
 
 def resolve(scene: Scene) -> BuiltScene:
@@ -245,7 +250,8 @@ def resolve(scene: Scene) -> BuiltScene:
     end = scene.simulator.end_time_s or None
     return BuiltScene(params, friction, tyres, road, timeline, case,
                       scene.simulator.time_step_s, end, scene.simulator.record_period_s,
-                      tuple(scene.logging.channels), scene.simulator.sap_pacer)
+                      tuple(scene.logging.channels), scene.simulator.sap_pacer,
+                      scene.simulator.start)
 
 
 def shipped_scenes():

@@ -34,13 +34,17 @@ def run_scene(scene: Scene, *, meshcat=None, progress=None):
                             record_period_s=built.record_period_s, meshcat=meshcat,
                             realtime_rate=rate, sap_pacer=built.sap_pacer)
     else:
+        initial = None
+        if built.start == "static_equilibrium":
+            from drake_car.study import static_equilibrium
+            initial = static_equilibrium(built.params).positions
         result = run_drive(built.case, built.params, friction=built.friction,
                            tyres=built.tyres, timeline=built.timeline,
                            time_step_s=built.time_step_s,
                            record_period_s=built.record_period_s, end_time_s=built.end_time_s,
                            road_height=built.road_height, meshcat=meshcat, progress=progress,
                            channels=built.log_channels, realtime_rate=rate,
-                           sap_pacer=built.sap_pacer)
+                           sap_pacer=built.sap_pacer, initial_positions=initial)
     if mode == "meshcat_html":
         meshcat.StopRecording()
         meshcat.PublishRecording()
