@@ -12,7 +12,8 @@ the fast scheme on the car. Rows with sap_pacer False show what the frozen steps
 
 Writes DIR/accuracy_cost.csv (scene, time_step_s, friction_scheme, tyre_model, sap_pacer,
 max_abs_dd_error_m, final_dd_error_m, wall_s, real_time_factor, frozen_sap_steps, status),
-DIR/accuracy_cost.png (log-log: error vs wall time) and DIR/accuracy_cost.json.
+DIR/accuracy_cost.png (log-log: error vs wall time), DIR/accuracy_cost.json and
+DIR/reference_<scene>.csv (the reference's Δd at its step and at twice it).
 
   python experiments/accuracy_cost.py --out results/accuracy   (about 20 minutes)
   python experiments/accuracy_cost.py --out /tmp/quick --scale_time 0.3 --explicit_step_s 0 \
@@ -167,6 +168,12 @@ def main():
                         f"error {1e3 * max_error:.3f} mm, {wall:.1f} s, {frozen} frozen")
     with output_folder(args.out) as out:
         write_csv(out / "accuracy_cost.csv", rows)
+        for scene in SCENES:  # the references themselves, to look at where errors arise
+            fine = references[(scene, args.reference_step_s)]
+            coarse = references[(scene, 2 * args.reference_step_s)]
+            write_csv(out / f"reference_{scene}.csv", {
+                "t": fine["t"], "dd_left_m": fine["dd_left_m"], "dd_right_m": fine["dd_right_m"],
+                "dd_left_2dt_m": coarse["dd_left_m"], "dd_right_2dt_m": coarse["dd_right_m"]})
         write_json(out / "accuracy_cost.json", provenance(
             reference_time_step_s=args.reference_step_s,
             reference_change_on_doubling_m=convergence, references=reference_info,
