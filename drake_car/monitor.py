@@ -46,13 +46,13 @@ def attach_monitor(simulator, built, *, max_speed=MAX_GENERALIZED_SPEED):
         # times also end short steps that do not) and left the car's velocities unchanged.
         updates = simulator.get_num_discrete_updates()
         v_car = plant.GetVelocities(pc, instance)
-        if last["updates"] is not None and updates > last["updates"]:
-            stats.steps += 1
-            if np.array_equal(v_car, last["v"]):
-                stats.frozen_steps += 1
-                if stats.first_frozen_time_s is None:
-                    stats.first_frozen_time_s = root_context.get_time()
         if last["updates"] is None or updates > last["updates"]:
+            if last["updates"] is not None:
+                stats.steps += 1
+                if np.array_equal(v_car, last["v"]):
+                    stats.frozen_steps += 1
+                    if stats.first_frozen_time_s is None:
+                        stats.first_frozen_time_s = root_context.get_time()
             last["updates"], last["v"] = updates, v_car
         if v.dot(v) < max_speed_squared and math.isfinite(x.dot(x)):
             return EventStatus.Succeeded()

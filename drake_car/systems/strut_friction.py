@@ -115,7 +115,7 @@ class Strut:
 class _StrutData:
     """What the per-step computation needs of one strut, resolved once at construction."""
 
-    def __init__(self, strut: Strut, plant, name):
+    def __init__(self, strut: Strut, name):
         self.label = strut.label
         self.overlap = tuple(float(x) for x in strut.overlap_m)
         self.offset = tuple(float(x) for x in strut.moment_arm_offset_m)
@@ -192,7 +192,7 @@ class StrutFriction(LeafSystem):
         self._name = name
         self._params = params
         self._scheme = scheme
-        self._struts = [_StrutData(s, plant, name) for s in struts]
+        self._struts = [_StrutData(s, name) for s in struts]
         nq = plant.num_positions()
         # Flattened over the struts' pairs, in actuation order.
         self._pairs, self._laws, self._strut_of, self._scale_of = [], [], [], []

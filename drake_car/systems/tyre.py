@@ -1,7 +1,6 @@
 """Tyre forces on the four wheels as a LeafSystem: radial stiffness and damping at one contact
 point per wheel, plus (optionally) the Magic Formula's horizontal forces and moments."""
 
-import numpy as np
 from pydrake.common.value import AbstractValue, Value
 from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialForce, SpatialVelocity
