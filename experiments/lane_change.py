@@ -30,7 +30,7 @@ from drake_car.scene import SceneError, dump_scene
 from drake_car.study import (
     PAPER_STUDY_SCENES,
     CASES, DISPLACEMENT_THRESHOLD_M, FRICTION_SETS, SYMMETRY_TOLERANCE, RunConfig,
-    evaluate_claims, place_values, run_one, static_equilibrium)
+    STUDY_CHANNELS, evaluate_claims, place_values, run_one, static_equilibrium)
 from drake_car.study_plots import all_figures
 
 
@@ -132,7 +132,8 @@ def main():
                                   tyres=TyreSetup(),
                                   rack_trajectory=rack_trajectory(timeline, _profile(), "a"),
                                   drive_trajectory=drive_trajectory(
-                                      timeline, rolling_radius(params)))
+                                      timeline, rolling_radius(params)),
+                                  log_channels=STUDY_CHANNELS)  # as run_one builds it
         write_diagram_svg(built.diagram, out / "diagram.svg")
         if not args.no_html:
             _replay(a3, start, out / "a_3.html")
