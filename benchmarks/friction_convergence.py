@@ -6,17 +6,15 @@ sinusoidal load (stick-slip), 0.5 s.
 """
 
 import argparse
-import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
 from drake_car.law.frd_friction import StrutFrictionParameters, shape_max_slope  # noqa: E402
-from drake_car.outputs import output_folder, provenance, write_csv, write_json  # noqa: E402
-from drake_car.rig import RigOptions, simulate_rig  # noqa: E402
+from drake_car.sim.outputs import output_folder, provenance, write_csv, write_json  # noqa: E402
+from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
 
 LAW = StrutFrictionParameters(mu_s=0.2, mu_d=0.15)
 CASE = dict(mass_kg=30.0, normal_force_N=500.0, spring_Npm=2.0e4, force_amp_N=150.0,

@@ -14,55 +14,49 @@ Two scenes:
 """
 
 import argparse
+import dataclasses
 import statistics
 import sys
-import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from drake_car.data import resource
+from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.scene.load import load_scene
+from drake_car.scene.scene import Friction
+from drake_car.sim.outputs import output_folder, provenance, write_json
+from drake_car.sim.simulate import simulate
 
-from pydrake.systems.analysis import Simulator  # noqa: E402
-
-from drake_car.assembly import build_car_diagram  # noqa: E402
-from drake_car.law.frd_friction import StrutFrictionParameters  # noqa: E402
-from drake_car.model.parameters import CarParameters  # noqa: E402
-from drake_car.outputs import output_folder, provenance, write_json  # noqa: E402
-from drake_car.study import RunConfig, run_one  # noqa: E402
-from drake_car.systems.strut_friction import StrutFrictionSetup  # noqa: E402
-
+SETTLE = (resource("scenes/car.yaml"), "settle")
+JAMMED = StrutFrictionParameters(mu_s=0.4, mu_d=0.3)
+# scene text on top of the settling car
 SETTLE_CASES = {
     "friction off (lubricated)": None,
-    "friction off, undamped": "undamped",
-    "friction on, translation pair": StrutFrictionSetup(
-        StrutFrictionParameters(mu_s=0.4, mu_d=0.3), rotation=False),
-    "friction on, both pairs": StrutFrictionSetup(StrutFrictionParameters(mu_s=0.4, mu_d=0.3)),
+    "friction off, undamped": "car: {front: {strut_damping_Nspm: 0.0}}",
+    "friction on, translation pair": Friction(pairs="translation", law=JAMMED),
+    "friction on, both pairs": Friction(law=JAMMED),
 }
-# (case, friction set, scene text on top of scenes/paper_study.yaml)
+# scene text on top of scenes/paper_study.yaml's entry
 LANE_CHANGE_CASES = {
-    "a_3, friction off": ("a", 3, 'friction: {mode: "off"}'),
-    "a_3, friction on (fast)": ("a", 3, ""),
-    "a_1 (lubricated)": ("a", 1, ""),
+    "a_3, friction off": ("a_3", "friction: null"),
+    "a_3, friction on (fast)": ("a_3", ""),
+    "a_1 (lubricated)": ("a_1", ""),
 }
 
 
-def settle_wall_per_simulated_second(friction, sim_s, time_step_s):
-    params = CarParameters()
-    if friction is not None:
-        params.front.strut_damping_Nspm = 0.0
-    if friction == "undamped":
-        friction = None
-    built = build_car_diagram(params, friction=friction, time_step_s=time_step_s)
-    simulator = Simulator(built.diagram)
-    simulator.Initialize()
-    start = time.perf_counter()
-    simulator.AdvanceTo(sim_s)
-    return (time.perf_counter() - start) / sim_s
+def settle_wall_per_simulated_second(case, sim_s, time_step_s):
+    scene = load_scene(SETTLE[0], child=SETTLE[1], scene_text=(
+        f"plant: {{time_step: {time_step_s!r}}}\nmanoeuvre: !Settle {{duration_s: {sim_s!r}}}"
+        + (f"\n{case}" if isinstance(case, str) else "")))
+    if isinstance(case, Friction):
+        scene = dataclasses.replace(scene, friction=case, car=dataclasses.replace(
+            scene.car, front=dataclasses.replace(scene.car.front, strut_damping_Nspm=0.0)))
+    return simulate(scene).wall_s / sim_s
 
 
-def lane_change_wall_s(case, number, scene_text, time_step_s):
-    config = RunConfig(case, number, time_step_s=time_step_s, scene_text=scene_text)
-    _, info, _ = run_one(config)
-    return info["wall_s"]
+def lane_change_wall_s(child, scene_text, time_step_s):
+    text = f"plant: {{time_step: {time_step_s!r}}}" + (f"\n{scene_text}" if scene_text else "")
+    scene = load_scene(resource("scenes/paper_study.yaml"), child=child, scene_text=text)
+    return simulate(scene).wall_s
 
 
 def report(title, samples, base_name, unit, per_step=None):
@@ -97,8 +91,8 @@ def main():
         print(f"settling car: repeat {r + 1}/{args.repeats} done", file=sys.stderr)
     lane = {name: [] for name in LANE_CHANGE_CASES}
     for r in range(args.lane_change_repeats):
-        for name, (case, number, text) in LANE_CHANGE_CASES.items():
-            lane[name].append(lane_change_wall_s(case, number, text, args.time_step_s))
+        for name, (child, text) in LANE_CHANGE_CASES.items():
+            lane[name].append(lane_change_wall_s(child, text, args.time_step_s))
         print(f"lane change: repeat {r + 1}/{args.lane_change_repeats} done", file=sys.stderr)
     results = {}
     results["settle"] = report(

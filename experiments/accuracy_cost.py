@@ -14,7 +14,9 @@ converges to the law on the car. Rows with sap_pacer False show what the frozen 
 Writes DIR/accuracy_cost.csv (scene, time_step_s, friction_scheme, tyre_model, sap_pacer,
 max_abs_dd_error_m, final_dd_error_m, wall_s, real_time_factor, frozen_sap_steps, status),
 DIR/accuracy_cost.png (log-log: error vs wall time), DIR/accuracy_cost.json and
-DIR/reference_<scene>.csv (the reference's Δd at its step and at twice it).
+DIR/reference_<scene>.csv (the reference's Δd at its step and at twice it), DIR/scenes/ (the
+references' scenes as they ran). Every case is the study's scene with its step, friction scheme,
+tyre model and SAP pacer replaced; each starts at its own scene's static equilibrium.
 
   python experiments/accuracy_cost.py --out results/accuracy   (about 45 minutes)
   python experiments/accuracy_cost.py --out /tmp/quick --scale_time 0.3 --explicit_step_s 0 \
@@ -22,24 +24,32 @@ DIR/reference_<scene>.csv (the reference's Δd at its step and at twice it).
 """
 
 import dataclasses
-import time
 
-import _common
+import matplotlib
 
-import matplotlib.pyplot as plt
-import numpy as np
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from pydrake.multibody.plant import MultibodyPlantConfig  # noqa: E402
 
-from drake_car.assembly import TyreSetup
-from drake_car.law.tyre_slip import SlipOptions
-from drake_car.monitor import DivergenceError
-from drake_car.outputs import Progress, output_folder, provenance, write_csv, write_json
-from drake_car.study import PAPER_STUDY_SCENES, RunConfig, run_one, static_equilibrium
+from drake_car import cli  # noqa: E402
+from drake_car.data import resource  # noqa: E402
+from drake_car.law.tyre_slip import SlipOptions  # noqa: E402
+from drake_car.scene.load import dump_scene_file, load_scene  # noqa: E402
+from drake_car.scene.scene import LinearTyre, MagicFormula  # noqa: E402
+from drake_car.sim.build import check_stability  # noqa: E402
+from drake_car.sim.outputs import (  # noqa: E402
+    output_folder, provenance, write_csv, write_json)
+from drake_car.sim.simulate import simulate  # noqa: E402
+from drake_car.study.paper import study_columns  # noqa: E402
+from drake_car.systems.failure import SimulationFailure  # noqa: E402
 
+PAPER_STUDY = resource("scenes/paper_study.yaml")
 TYRES = {
-    "mf_combined_relaxed": TyreSetup(),
-    "mf_pure_slip": TyreSetup(combined=False),
-    "mf_no_relaxation": TyreSetup(slip=SlipOptions(relaxation=False)),
-    "linear": TyreSetup(linear=True),
+    "mf_combined_relaxed": MagicFormula(),
+    "mf_pure_slip": MagicFormula(combined_slip=False),
+    "mf_no_relaxation": MagicFormula(slip=SlipOptions(relaxation=False)),
+    "linear": LinearTyre(),
 }
 DEFAULT_TYRE = "mf_combined_relaxed"
 SCENES = ("a_3", "a_1")
@@ -57,24 +67,27 @@ class Case:
     sap_pacer: bool = True
 
 
-def simulate(case: Case, scale, start, scene_file, scene_text):
-    config = RunConfig(case.scene[0], int(case.scene[2]), time_step_s=case.time_step_s,
-                       scheme=case.scheme, record_period_s=0.01, tyres=TYRES[case.tyre_model],
-                       sap_pacer=case.sap_pacer, scene_file=scene_file, scene_text=scene_text)
-    if scale != 1.0:
-        t = config.timeline
-        config.timeline = dataclasses.replace(
-            t, settle_s=t.settle_s * scale, speed_up_s=t.speed_up_s * scale,
-            straight_s=t.straight_s * scale, lane_change_s=t.lane_change_s * scale,
-            calm_s=t.calm_s * scale)
-    began = time.perf_counter()
+def case_scene(base, case: Case):
+    """The scene of a case: the study's scene with its step, scheme, tyres and pacer."""
+    plant = MultibodyPlantConfig(time_step=case.time_step_s,
+                                 discrete_contact_approximation="sap")
+    friction = base.friction
+    if friction is not None:
+        friction = dataclasses.replace(friction, scheme=case.scheme)
+    return dataclasses.replace(
+        base, name=f"{base.name} dt={case.time_step_s:g} {case.scheme} {case.tyre_model}"
+                   + ("" if case.sap_pacer else " no-pacer"),
+        plant=plant, friction=friction, tyres=TYRES[case.tyre_model],
+        simulator=dataclasses.replace(base.simulator, sap_pacer=case.sap_pacer))
+
+
+def simulate_case(base, case):
+    scene = case_scene(base, case)
     try:
-        columns, info, _ = run_one(config, start)
-        return columns, info, time.perf_counter() - began, "ok"
-    except DivergenceError as e:
-        return None, None, time.perf_counter() - began, f"diverged: {e}"
-    except RuntimeError as e:  # a system refused the state (e.g. a rod out of its guide)
-        return None, None, time.perf_counter() - began, f"failed: {e}"
+        run = simulate(scene)
+    except SimulationFailure as e:
+        return scene, None, None, f"failed: {e}"
+    return scene, study_columns(run.history), run, "ok"
 
 
 def dd_difference(a, b):
@@ -83,34 +96,41 @@ def dd_difference(a, b):
     return float(max(np.max(e) for e in errors)), float(max(e[-1] for e in errors))
 
 
-def main():
-    p = _common.parser(__doc__)
+def scaled(scene, scale):
+    """The scene with every phase of its timeline shortened by ``scale`` (quick checks)."""
+    if scale == 1.0:
+        return scene
+    t = scene.manoeuvre.timeline
+    timeline = dataclasses.replace(
+        t, settle_s=t.settle_s * scale, speed_up_s=t.speed_up_s * scale,
+        straight_s=t.straight_s * scale, steer_s=t.steer_s * scale, calm_s=t.calm_s * scale)
+    return dataclasses.replace(scene, manoeuvre=dataclasses.replace(scene.manoeuvre,
+                                                                    timeline=timeline))
+
+
+def main(argv=None):
+    p = cli.parser(__doc__)
     p.add_argument("--steps", default="5e-3,2e-3,1e-3,5e-4,2e-4,1e-4,5e-5",
                    help="time steps to sweep (s), comma separated")
-    p.add_argument("--reference_step_s", type=_common.positive("reference_step_s"),
+    p.add_argument("--reference_step_s", type=cli.positive("reference_step_s"),
                    default=2.5e-5)
-    p.add_argument("--explicit_step_s", type=_common.nonnegative("explicit_step_s"),
+    p.add_argument("--explicit_step_s", type=cli.nonnegative("explicit_step_s"),
                    default=5e-6, help="step of the explicit friction scheme on a_3 (0: skip)")
-    p.add_argument("--scale_time", type=_common.positive("scale_time"), default=1.0,
-                   help="shorten the timeline (quick checks)")
-    p.add_argument("--scene", default=str(PAPER_STUDY_SCENES),
+    p.add_argument("--scale_time", type=cli.positive("scale_time"), default=1.0,
+                   help="shorten every phase of the timeline by this factor (quick checks)")
+    p.add_argument("--scene", default=str(PAPER_STUDY),
                    help="scenes file with entries a_1 and a_3 (default: %(default)s)")
     p.add_argument("--scene_text", default="", help="YAML laid over both scenes")
-    args = p.parse_args()
-    try:
-        for name in SCENES:
-            RunConfig(name[0], int(name[2]), scene_file=args.scene,
-                      scene_text=args.scene_text).car()
-    except ValueError as e:  # SceneError names the file, the entry and the key
-        p.error(str(e))
+    args = p.parse_args(argv)
     try:
         steps = sorted({float(s) for s in args.steps.split(",")}, reverse=True)
     except ValueError:
         p.error(f"--steps: {args.steps!r} is not a list of numbers")
     if len(steps) < 4 or steps[0] / steps[-1] < 100:
         p.error("--steps: give at least 4 steps over at least 2 decades")
-    if args.explicit_step_s > 2e-5:
-        p.error("--explicit_step_s: the explicit scheme is unstable on the car above 2e-5 s")
+    cli.check_out(args)
+    bases = {name: scaled(load_scene(args.scene, child=name, scene_text=args.scene_text or None),
+                          args.scale_time) for name in SCENES}
     cases = []
     for scene in SCENES:
         cases += [Case(scene, dt) for dt in steps]
@@ -119,55 +139,52 @@ def main():
         cases += [Case(scene, dt, sap_pacer=False) for dt in (1e-3, 1e-4)]
     if args.explicit_step_s > 0:
         cases.append(Case("a_3", args.explicit_step_s, scheme="reference"))
-    progress = Progress("accuracy-cost sweep", len(cases) + 2 * len(SCENES))
-    # One initial state for every run, whatever its step: the lubricated car's static
-    # equilibrium (a_1 and a_3 share the car; they differ in friction and strut damping).
-    start = static_equilibrium(RunConfig("a", 1, scene_file=args.scene,
-                                         scene_text=args.scene_text).car()[0])
-    references, reference_info, reference_runs = {}, {}, {}
-    for scene in SCENES:
-        for dt in (args.reference_step_s, 2 * args.reference_step_s):
-            columns, info, wall, status = simulate(Case(scene, dt), args.scale_time,
-                                                   start, args.scene, args.scene_text)
-            if columns is None:
-                raise SystemExit(f"reference {scene} at {dt:g} s {status}")
-            if info["frozen_sap_steps"]:
-                raise SystemExit(f"reference {scene} at {dt:g} s has {info['frozen_sap_steps']}"
-                                 f" frozen SAP steps (from t = "
-                                 f"{info['first_frozen_sap_step_s']:.3f} s): not a reference")
-            references[(scene, dt)] = columns
-            reference_runs[Case(scene, dt)] = (columns, info, wall, status)
-            reference_info[f"{scene}@{dt:g}"] = {"wall_s": wall,
-                                                 "frozen_sap_steps": info["frozen_sap_steps"]}
-            progress.update(len(references), f"reference {scene} dt = {dt:g} s: {wall:.0f} s")
-    convergence = {scene: dd_difference(references[(scene, args.reference_step_s)],
-                                        references[(scene, 2 * args.reference_step_s)])[0]
-                   for scene in SCENES}
-    rows = {c: [] for c in COLUMNS}
-    for i, case in enumerate(cases):
-        if case in reference_runs:  # the reference's own runs: not repeated
-            columns, info, wall, status = reference_runs[case]
-        else:
-            columns, info, wall, status = simulate(case, args.scale_time, start, args.scene,
-                                                   args.scene_text)
-        reference = references[(case.scene, args.reference_step_s)]
-        max_error = final = simulated = float("nan")
-        frozen = -1
-        if columns is not None:
-            max_error, final = dd_difference(columns, reference)
-            simulated = float(columns["t"][-1])
-            frozen = info["frozen_sap_steps"]
-        values = dataclasses.asdict(case) | {
-            "friction_scheme": case.scheme, "max_abs_dd_error_m": max_error,
-            "final_dd_error_m": final, "wall_s": wall, "real_time_factor": simulated / wall,
-            "frozen_sap_steps": frozen, "status": status}
-        for key in COLUMNS:
-            rows[key].append(values[key])
-        progress.update(i + 1 + 2 * len(SCENES),
-                        f"{case.scene} dt = {case.time_step_s:g} s {case.scheme} "
-                        f"{case.tyre_model}{'' if case.sap_pacer else ' no pacer'}: "
-                        f"error {1e3 * max_error:.3f} mm, {wall:.1f} s, {frozen} frozen")
+        # Refused at once (stability limit) rather than after the references have run.
+        check_stability(case_scene(bases["a_3"], cases[-1]))
+    from tqdm import tqdm
+    bar = tqdm(total=len(cases) + 2 * len(SCENES), desc="accuracy-cost sweep", disable=None)
     with output_folder(args.out) as out:
+        references, reference_info, done = {}, {}, {}
+        for scene in SCENES:
+            for dt in (args.reference_step_s, 2 * args.reference_step_s):
+                case = Case(scene, dt)
+                ran, columns, run, status = simulate_case(bases[scene], case)
+                if columns is None:
+                    raise SystemExit(f"reference {scene} at {dt:g} s {status}")
+                if run.frozen_sap_steps:
+                    raise SystemExit(f"reference {scene} at {dt:g} s has "
+                                     f"{run.frozen_sap_steps} frozen SAP steps: not a reference")
+                references[(scene, dt)] = columns
+                done[case] = (ran, columns, run, status)
+                reference_info[f"{scene}@{dt:g}"] = {"wall_s": run.wall_s,
+                                                     "frozen_sap_steps": run.frozen_sap_steps}
+                (out / "scenes").mkdir(exist_ok=True)
+                (out / "scenes" / f"reference_{scene}_{dt:g}.yaml").write_text(
+                    dump_scene_file(ran))
+                bar.update(1)
+        convergence = {scene: dd_difference(references[(scene, args.reference_step_s)],
+                                            references[(scene, 2 * args.reference_step_s)])[0]
+                       for scene in SCENES}
+        rows = {c: [] for c in COLUMNS}
+        for case in cases:
+            ran, columns, run, status = done.get(case) or simulate_case(bases[case.scene], case)
+            reference = references[(case.scene, args.reference_step_s)]
+            max_error = final = float("nan")
+            wall, rtf, frozen = float("nan"), float("nan"), -1
+            if columns is not None:
+                max_error, final = dd_difference(columns, reference)
+                wall, frozen = run.wall_s, run.frozen_sap_steps
+                rtf = float(columns["t"][-1]) / wall
+            values = dataclasses.asdict(case) | {
+                "friction_scheme": case.scheme, "max_abs_dd_error_m": max_error,
+                "final_dd_error_m": final, "wall_s": wall, "real_time_factor": rtf,
+                "frozen_sap_steps": frozen, "status": status}
+            for key in COLUMNS:
+                rows[key].append(values[key])
+            bar.update(1)
+            bar.set_postfix_str(f"{case.scene} dt={case.time_step_s:g} {case.scheme} "
+                                f"{case.tyre_model}: {1e3 * max_error:.3f} mm")
+        bar.close()
         write_csv(out / "accuracy_cost.csv", rows)
         for scene in SCENES:  # the references themselves, to look at where errors arise
             fine = references[(scene, args.reference_step_s)]
@@ -179,9 +196,7 @@ def main():
             reference_time_step_s=args.reference_step_s,
             reference_change_on_doubling_m=convergence, references=reference_info,
             scale_time=args.scale_time,
-            initial_state=f"static equilibrium: lubricated car settled {start.duration_s:g} s "
-                          f"at {start.time_step_s:g} s (max |v| over its last 0.5 s "
-                          f"{start.max_abs_velocity:.2g})"))
+            initial_state="static equilibrium of each run's own scene (simulator.start)"))
         plot(rows, out / "accuracy_cost.png", args.reference_step_s)
     print("reference: doubling its step changes Δd by at most "
           + ", ".join(f"{k} {1e3 * v:.4f} mm" for k, v in convergence.items())
@@ -230,4 +245,4 @@ def plot(rows, path, reference_step_s):
 
 
 if __name__ == "__main__":
-    main()
+    cli.run_main(main)

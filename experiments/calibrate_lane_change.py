@@ -1,42 +1,39 @@
-"""Calibrates the lane-change rack profile (Akima knots of one sine period, amplitude and the
-right turn's relative amplitude) so that at 60 km/h the car's track shifts 3.7 m during the
-2.4 s of phase III and ends parallel; writes the result, with every iteration, to
-scenes/lane_change_profile.json (or --out FILE).
+"""Calibrates the lane change's rack profile (Akima knots of one sine period: its amplitude and
+the return turn's relative amplitude) so that the car's track shifts 3.7 m during the 2.4 s of
+phase III at 60 km/h and ends parallel, starting at rest in static equilibrium as every study
+run does. Writes the result, with every iteration, to the package's lane-change calibration
+(drake_car/scene/lane_change_profile.json: the !LaneChange defaults) or to --out FILE.
 
   python experiments/calibrate_lane_change.py [--scene FILE[:ENTRY]] [--scene_text YAML]
 """
 
-import _common
+import importlib.resources
+from pathlib import Path
 
-from drake_car.calibration import calibrate_lane_change, calibrated_profile, save_profile
-from drake_car.manoeuvre import LaneChangeProfile
-from drake_car.outputs import provenance
+from drake_car import cli
+from drake_car.sim.outputs import provenance
+from drake_car.study.calibration import calibrate_lane_change, save_calibration
 
-DEFAULT = _common.REPO_ROOT / "scenes" / "lane_change_profile.json"
+DEFAULT = Path(str(importlib.resources.files("drake_car.scene").joinpath(
+    "lane_change_profile.json")))
 
 
-def main():
-    import argparse
-    from pathlib import Path
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--out", type=Path, default=DEFAULT)
-    p.add_argument("--shift_m", type=_common.positive("shift_m"), default=3.7)
-    _common.add_scene_options(p)
-    args = p.parse_args()
-    scene = _common.load_scene_option(p, args)  # the car, its tyres and the timeline
-    setup = {}
-    if scene is not None:
-        built = _common.resolve_or_exit(p, scene)
-        setup = {"params": built.params, "tyres": built.tyres, "timeline": built.timeline}
-    profile, history = calibrate_lane_change(
-        shift_m=args.shift_m, start=calibrated_profile() if DEFAULT.is_file() else
-        LaneChangeProfile(amplitude_m=0.0094, second_lobe=1.0), **setup)
+def main(argv=None):
+    p = cli.parser(__doc__, out=False)
+    p.add_argument("--out", type=Path, default=DEFAULT, help="where to write (a JSON file)")
+    p.add_argument("--shift_m", type=cli.positive("shift_m"), default=3.7)
+    cli.add_scene_options(p, help_scene="the car, tyres and timeline from this scene "
+                                        "(FILE[:ENTRY]; default: the default scene)")
+    args = p.parse_args(argv)
+    scene = cli.scene_from_args(args)
+    manoeuvre, history = calibrate_lane_change(scene, shift_m=args.shift_m)
     tmp = args.out.with_suffix(".partial")
-    save_profile(tmp, profile, history, provenance(target_shift_m=args.shift_m))
+    save_calibration(tmp, manoeuvre, history, provenance(target_shift_m=args.shift_m,
+                                                         scene=scene.name))
     tmp.replace(args.out)
-    print(f"wrote {args.out}")
+    print(f"amplitude {manoeuvre.amplitude_m:.6f} m, second lobe {manoeuvre.second_lobe:.4f}; "
+          f"wrote {args.out}")
 
 
 if __name__ == "__main__":
-    main()
+    cli.run_main(main)

@@ -9,30 +9,36 @@ DIR/kinematics.png and DIR/steering.png.
 Example:  python experiments/suspension_kinematics.py --out results/kinematics
 """
 
-import _common  # noqa: F401
+import matplotlib
 
-import matplotlib.pyplot as plt
-import numpy as np
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
-from drake_car.kinematics_rig import run_kinematics_sweep
-from drake_car.model.parameters import CarParameters
-from drake_car.outputs import output_folder, provenance, write_csv, write_json
+from drake_car import cli  # noqa: E402
+from drake_car.model.kinematics_sweep import run_kinematics_sweep  # noqa: E402
+from drake_car.sim.outputs import output_folder, provenance, write_csv, write_json  # noqa: E402
 
 
-def main():
-    p = _common.parser(__doc__)
-    p.add_argument("--travel_m", type=_common.positive("travel_m"), default=0.08)
+def main(argv=None):
+    p = cli.parser(__doc__)
+    p.add_argument("--travel_m", type=cli.positive("travel_m"), default=0.08)
     p.add_argument("--points", type=int, default=33)
-    p.add_argument("--model", default=None, help="a car model file to use instead of urdf/")
-    _common.add_scene_options(p)
-    args = p.parse_args()
-    if args.points < 3:
-        p.error("--points must be >= 3")
-    scene = _common.load_scene_option(p, args)  # the car's geometry from a scene
-    params = CarParameters() if scene is None else _common.resolve_or_exit(p, scene).params
-    sweep = run_kinematics_sweep(params, travel_m=args.travel_m, points=args.points,
-                                 model_path=args.model)
+    p.add_argument("--model", default=None,
+                   help="a car model file to use instead of the one generated from the scene's "
+                        "car parameters")
+    cli.add_scene_options(p, help_scene="the car's parameters from this scene (FILE[:ENTRY]; "
+                                        "default: the default car)")
+    args = p.parse_args(argv)
+    if not 3 <= args.points <= 1001:
+        p.error("--points must lie in [3, 1001]")
+    if args.travel_m > 0.2:
+        p.error("--travel_m must be <= 0.2 m (a strut's whole travel)")
+    cli.check_out(args)
+    params = cli.scene_from_args(args).car
     with output_folder(args.out) as out:
+        sweep = run_kinematics_sweep(params, travel_m=args.travel_m, points=args.points,
+                                     model_path=args.model)
         write_csv(out / "kinematics.csv", sweep.kinematics)
         write_csv(out / "steering.csv", sweep.steering)
         write_json(out / "kinematics_meta.json", provenance(travel_m=args.travel_m,
@@ -79,4 +85,4 @@ def plot_steering(table, path):
 
 
 if __name__ == "__main__":
-    main()
+    cli.run_main(main)

@@ -7,23 +7,22 @@ from numpy.testing import assert_allclose
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.systems.analysis import Simulator
 
-from drake_car.assembly import build_car_diagram
-from drake_car.kinematics_rig import run_kinematics_sweep
+from conftest import car_scene
+from drake_car.law.checks import ParameterError
 from drake_car.law.frd_friction import StrutFrictionParameters
 from drake_car.model.car import model_source
 from drake_car.model.geometry import SIDES
 from drake_car.model.kinematics import KinematicsError, SuspensionKinematics
+from drake_car.model.kinematics_sweep import run_kinematics_sweep
 from drake_car.model.loading import ModelFileError, ModelSource, load_car
-from drake_car.model.parameters import CarParameters, ParameterError
+from drake_car.model.parameters import CarParameters
 from drake_car.model.sdformat import DEFAULT_MODEL_PATH, generate_sdformat
-from drake_car.settle import run_settle
-from drake_car.systems.strut_friction import StrutFrictionSetup
+from drake_car.scene.manoeuvres import Settle
+from drake_car.scene.scene import Scene
+from drake_car.sim.build import build_diagram
+from drake_car.sim.simulate import simulate
 
 DMAX = StrutFrictionParameters().dmax_translation_m
-
-
-def system_law():
-    return StrutFrictionParameters()
 
 
 def test_committed_model_file_is_the_generators_output():
@@ -86,29 +85,26 @@ def test_kinematics_signs_and_ranges(sweep):
 
 @pytest.fixture(scope="module")
 def settled():
-    return run_settle(CarParameters(), duration_s=4.0)
+    return simulate(car_scene("settle", "manoeuvre: !Settle {duration_s: 4.0}")).final
 
 
 def test_settled_corner_loads_match_design_axle_loads(settled):
-    loads, design = settled.corner_loads_N, settled.design_axle_loads_N
+    loads, design = settled["corner_loads_N"], settled["design_axle_loads_N"]
     assert_allclose(loads["fl"] + loads["fr"], design["front"], rtol=0.02)
     assert_allclose(loads["rl"] + loads["rr"], design["rear"], rtol=0.02)
     assert_allclose(loads["fl"], loads["fr"], rtol=1e-6)
-    assert_allclose(settled.total_mass_kg, CarParameters().mass.total_mass_kg, rtol=1e-12)
+    assert_allclose(settled["total_mass_kg"], CarParameters().mass.total_mass_kg, rtol=1e-12)
     # SAP's regularised constraints: closure well inside the 1e-6 m requirement.
-    assert settled.loop_closure_error_m < 1e-6
+    assert settled["loop_closure_error_m"] < 1e-6
     # Sagged from the design height by tyre deflection plus spring travel, not more than 5 cm.
     r0 = CarParameters().tyre.unloaded_radius_m
-    for where, height in settled.ride_height_m.items():
+    for where, height in settled["ride_height_m"].items():
         assert r0 - 0.05 < height < r0, where
 
 
 def test_jammed_rods_do_not_return(settled):
     """Paper Fig. 14, curve 3, phase I: with μs = 0.4 the rods stop where they jam."""
-    params = CarParameters()
-    params.front.strut_damping_Nspm = 0.0
-    friction = StrutFrictionSetup(StrutFrictionParameters(mu_s=0.4, mu_d=0.3))
-    jammed = run_settle(params, friction=friction, duration_s=3.0)
+    jammed = simulate(car_scene("settle_jammed"))
     t = jammed.history["t"]
     for side in SIDES:
         d = jammed.history[f"d_{side}_m"]
@@ -116,15 +112,14 @@ def test_jammed_rods_do_not_return(settled):
         # Stuck: from 0.8 s on the rod moves by its creep at most.
         assert np.ptp(d[after]) <= 2 * DMAX, side
         # ...and away from where a lubricated rod settles (by far more than the creep).
-        assert abs(d[-1] - settled.strut_overlap_m[side]) > 200 * DMAX, side
+        assert abs(d[-1] - settled["strut_overlap_m"][side]) > 200 * DMAX, side
 
 
 def test_normal_force_matches_reaction():
     """N of eq. (4) from the system equals N computed here from the strut joint's reaction,
     with the overlap and the mid-point taken from the bodies' world positions."""
-    params = CarParameters()
-    params.front.strut_damping_Nspm = 0.0
-    built = build_car_diagram(params, friction=StrutFrictionSetup())
+    scene = car_scene("settle_jammed", "friction: {law: {mu_s: 0.2, mu_d: 0.15}}")
+    built = build_diagram(scene)
     simulator = Simulator(built.diagram)
     simulator.AdvanceTo(1.0)
     root = simulator.get_context()
@@ -158,7 +153,8 @@ def test_normal_force_matches_reaction():
                         err_msg=side)
         # The settled car's rotation pair is stuck: static phase, |ω| within the threshold.
         assert diagnostics[names.index(f"{side}_rotation_phase")] == 0.0, side
-        assert abs(diagnostics[names.index(f"{side}_rotation_v")]) <= system_law().dv_rotation_radps
+        assert abs(diagnostics[names.index(f"{side}_rotation_v")]) <= \
+            scene.friction.law.dv_rotation_radps
 
 
 # -- bad input ------------------------------------------------------------------------------
@@ -219,9 +215,9 @@ def test_parameter_out_of_range_names_it(group, name, value):
     params = CarParameters()
     setattr(getattr(params, group), name, value)
     with pytest.raises(ParameterError, match=f"{group}.{name}"):
-        params.validate()
-    with pytest.raises(ParameterError, match=f"{group}.{name}"):
-        build_car_diagram(params)
+        params.check()
+    with pytest.raises(ValueError, match=f"car.{group}.{name}"):
+        build_diagram(Scene(car=params, manoeuvre=Settle()))
 
 
 def test_compliant_top_mount_adds_three_joints_per_side_and_keeps_the_mass():
@@ -230,8 +226,8 @@ def test_compliant_top_mount_adds_three_joints_per_side_and_keeps_the_mass():
     the mount's mass so the car's mass is unchanged."""
     rigid, compliant = CarParameters(), CarParameters()
     compliant.front.top_mount_stiffness_Npm = 2e6
-    built = {name: build_car_diagram(p) for name, p in (("rigid", rigid),
-                                                          ("compliant", compliant))}
+    built = {name: build_diagram(Scene(car=p, manoeuvre=Settle()))
+             for name, p in (("rigid", rigid), ("compliant", compliant))}
     plants = {name: b.plant for name, b in built.items()}
     assert (plants["compliant"].num_velocities()
             == plants["rigid"].num_velocities() + 6)

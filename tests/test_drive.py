@@ -5,20 +5,21 @@ import math
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
-from pydrake.trajectories import PiecewisePolynomial
 
-from drake_car.assembly import DEFAULT_TIR
-from drake_car.drive import lane_change_metrics, run_drive
+from conftest import car_scene, paper_scene
+from drake_car.data import resource
 from drake_car.law.magic_formula import MagicFormulaTyre, magic_formula
-from drake_car.manoeuvre import Timeline
 from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
+from drake_car.scene.manoeuvres import Timeline
+from drake_car.sim.simulate import simulate
+from drake_car.study.calibration import lane_change_metrics
 
 TIMELINE = Timeline()
 TARGET_MPS = 60 / 3.6
 
 
 def test_straight_run_keeps_its_line_and_speed():
-    run = run_drive("straight", record_period_s=0.05)
+    run = simulate(car_scene("straight", "logging: {record_period_s: 0.05}"))
     h = run.history
     assert np.all(np.isfinite(h["y_m"])) and h["t"][-1] == pytest.approx(10.0)
     assert np.max(np.abs(h["y_m"])) < 0.05
@@ -30,14 +31,14 @@ def test_straight_run_keeps_its_line_and_speed():
     assert_allclose(h["speed_mps"][reached], TARGET_MPS, rtol=0.01)
     # Cruising near a balance is where SAP would return its guess (about 300 steps after
     # 9.2 s at 1 ms without the pacer, systems/sap_pacer.py): with it, none.
-    assert run.monitor.steps >= 9999 and run.monitor.frozen_steps == 0
+    assert run.steps >= 9999 and run.frozen_sap_steps == 0
 
 
 @pytest.fixture(scope="module")
 def lane_changes():
     end = TIMELINE.boundaries()[2] + 0.6
-    return {case: run_drive(case, end_time_s=end, record_period_s=0.02).history
-            for case in ("a", "b")}
+    text = f"simulator: {{end_time_s: {end}}}\nlogging: {{record_period_s: 0.02}}"
+    return {case: simulate(paper_scene(f"{case}_1", text)).history for case in ("a", "b")}
 
 
 def test_lane_change_shifts_the_track_and_ends_parallel(lane_changes):
@@ -54,27 +55,20 @@ def test_cases_a_and_b_mirror_each_other(lane_changes):
 
 
 def test_steady_cornering_understeer_gradient():
-    """A slow rack ramp at 60 km/h; K = d(δ - L r / V)/d a_y over a_y = 0.5 ... 2.5 m/s², δ
-    the road wheels' mean angle to the body.
+    """A slow rack ramp at 60 km/h (!RampSteer); K = d(δ - L r / V)/d a_y over
+    a_y = 0.5 ... 2.5 m/s², δ the road wheels' mean angle to the body.
 
     Expected sign: understeer (K > 0). The tyres alone (bicycle model with the Magic Formula's
     cornering stiffness at the static corner loads) give
         K_tyre = m_f / (2 C_f) - m_r / (2 C_r) ≈ 0.5 deg/g > 0
-    for this front-heavy car (62 % on the front axle, the tyre's load sensitivity); lateral
-    load transfer, shared by the springs almost equally front and rear, changes it by less than
-    0.05 deg/g (the same axle model with the transfer). Expected size: production front-drive
-    cars are tuned to understeer by a few deg/g; K must lie between K_tyre and 8 deg/g. The
-    model's K is several times K_tyre; what adds the rest (roll camber, the suspension's
-    compliances, combined slip from the drive) is not yet attributed.
-    """
-    timeline = Timeline(straight_s=7.0, lane_change_s=0.1, calm_s=0.0)
-    t2 = timeline.boundaries()[0]
-    start, ramp = t2 + 0.5, 5.0
-    rack = PiecewisePolynomial.FirstOrderHold([0.0, start, start + ramp],
-                                              np.array([[0.0, 0.0, 0.005]]))
-
-    h = run_drive("straight", timeline=timeline, rack=rack, end_time_s=start + ramp,
-                  record_period_s=0.02).history
+    for this front-heavy car (62 % on the front axle, the tyre's load sensitivity). Expected
+    size: production front-drive cars are tuned to understeer by a few deg/g; K must lie
+    between K_tyre and 8 deg/g."""
+    scene = paper_scene("a_1", "manoeuvre: !RampSteer {rack_m: 0.005, timeline: "
+                               "{straight_s: 0.5, steer_s: 5.0, calm_s: 0.0}}\n"
+                               "logging: {record_period_s: 0.02}")
+    h = simulate(scene).history
+    start = scene.manoeuvre.timeline.boundaries()[1]
     params = CarParameters()
     speed, rate = h["speed_mps"], h["yaw_rate_radps"]
     lateral = speed * rate
@@ -84,7 +78,7 @@ def test_steady_cornering_understeer_gradient():
     speed, rate, lateral, steer = speed[use], rate[use], lateral[use], steer[use]
     gradient = np.polyfit(lateral, steer - params.wheelbase_m * rate / speed, 1)[0]
     loads = params.design_axle_loads_N()
-    tyre = MagicFormulaTyre.from_file(DEFAULT_TIR)
+    tyre = MagicFormulaTyre.from_file(str(resource("urdf/tyres/pacejka2006_205_60R15.tir")))
     c_front = abs(magic_formula(tyre, loads["front"] / 2, 0, 0, 0, 16.7).cornering_stiffness)
     c_rear = abs(magic_formula(tyre, loads["rear"] / 2, 0, 0, 0, 16.7).cornering_stiffness)
     tyre_only = (loads["front"] / GRAVITY_MPS2 / (2 * c_front)

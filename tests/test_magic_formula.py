@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from drake_car.assembly import DEFAULT_TIR
+from drake_car.data import resource
 from drake_car.law.magic_formula import REQUIRED, MagicFormulaTyre, linear_tyre, magic_formula
 from drake_car.law.tir import TirFileError, format_tir, parse_tir, read_tir
 
+DEFAULT_TIR = str(resource("urdf/tyres/pacejka2006_205_60R15.tir"))
 TYRE = MagicFormulaTyre.from_file(DEFAULT_TIR)
 OFFSETS = ("PHX1", "PHX2", "PVX1", "PVX2", "PHY1", "PHY2", "PHY3", "PVY1", "PVY2", "RHX1",
            "RHY1", "RHY2", "QHZ1", "QHZ2", "QHZ3", "QHZ4", "RVY1", "RVY2", "RVY3", "PEX4",

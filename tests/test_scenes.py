@@ -1,45 +1,28 @@
-"""Scenes: typed YAML, overrides, errors, the systems each shipped scene builds, a smoke run of
-each shipped scene."""
+"""Scenes: the shipped scenes run; a Diagram holds a system if and only if the scene calls for
+its effect; every value a scene states changes the run; the saved scene reruns bit for bit."""
+
+import dataclasses
 
 import numpy as np
 import pytest
-from numpy.testing import assert_allclose
 
-from drake_car.scene import (
-    SceneError, dump_scene, load_scene, resolve, shipped_scenes)
-from drake_car.scene_run import run_scene, system_names
-from drake_car.study import FRICTION_SETS, PAPER_STUDY_SCENES
+from conftest import assert_finite, car_scene, paper_scene
+from drake_car.scene.load import (
+    SceneError, dump_scene, dump_scene_file, load_scene, scene_hash, shipped_scenes)
+from drake_car.scene.scene import MeshcatReplay, PrescribedRotation
+from drake_car.sim.build import build_diagram
+from drake_car.sim.outputs import read_csv, write_csv
+from drake_car.sim.simulate import simulate
+from drake_car.systems.driveshaft import DriveshaftReaction
+from drake_car.systems.sap_pacer import PACER_MASS_KG
+from drake_car.systems.strut_friction import StrutFriction
+from drake_car.systems.tyre import TyreSystem
 
 SCENES = shipped_scenes()
-BASE = {"plant", "scene_graph", "tyres"}
-PACER = {"sap_pacer_target", "sap_pacer_desired_state"}
-DRIVE = {"rack_command_akima", "drive_command", "driveshafts", "applied_forces",
-         "desired_state_mux", "desired_state_order"}
-FRICTION = {"strut_friction", "actuation_mux",
-            "actuation_mux_zeros_0"}
 
 
-def expected_systems(scene):
-    """What a scene calls for, and nothing else."""
-    names = set(BASE)
-    if scene.simulator.sap_pacer:
-        names |= PACER
-    drive = scene.manoeuvre.kind != "settle"
-    names |= DRIVE if drive else {"rack_hold"}
-    if scene.friction.mode != "off":
-        names |= FRICTION | ({"actuation_mux_zeros_1"} if drive else set())
-        if not drive:
-            names |= {"desired_state_mux", "desired_state_order"}
-    if drive:  # one logger per channel group asked for (a settle records its own few values)
-        channels = set(scene.logging.channels)
-        if scene.friction.mode == "off":
-            channels.discard("friction")
-        names |= {f"log_{group}" for group in channels}
-        if channels & {"chassis", "steering", "struts"}:
-            names.add("car_channels")
-    if scene.visualization.mode != "none":
-        names.add("meshcat_visualizer(visualizer)")
-    return names
+def systems_of(scene):
+    return list(build_diagram(scene).diagram.GetSystems())
 
 
 def test_scenes_are_shipped():
@@ -48,107 +31,120 @@ def test_scenes_are_shipped():
 
 
 @pytest.mark.parametrize("path, child", SCENES, ids=[c for _, c in SCENES])
-def test_scene_builds_only_what_it_calls_for(path, child):
+def test_a_system_is_there_if_and_only_if_its_effect_is_on(path, child):
     scene = load_scene(path, child=child)
-    assert set(system_names(scene)) == expected_systems(scene)
+    systems = systems_of(scene)
+    kinds = {type(s) for s in systems}
+    assert (StrutFriction in kinds) == (scene.friction is not None)
+    assert TyreSystem in kinds
+    drives_through_body = scene.manoeuvre.drives and not (
+        isinstance(scene.drive, PrescribedRotation) and scene.drive.reaction == "knuckle")
+    assert (DriveshaftReaction in kinds) == drives_through_body
+    names = {s.get_name() for s in systems}
+    assert ("sap_pacer_target" in names) == scene.simulator.sap_pacer
+    loggers = {n[len("log_"):] for n in names if n.startswith("log_")}
+    from drake_car.scene.load import channels_of
+    assert loggers == set(channels_of(scene))
+    assert not any("meshcat" in n for n in names), "no visualiser unless asked for"
 
 
 @pytest.mark.parametrize("path, child", SCENES, ids=[c for _, c in SCENES])
 def test_scene_smoke(path, child):
     scene = load_scene(path, child=child, scene_text="simulator: {end_time_s: 0.2}")
-    result = run_scene(scene)
-    for name, values in result.history.items():
-        if name != "phase":
-            assert np.all(np.isfinite(values)), (child, name)
+    run = simulate(scene)
+    assert_finite(run.history)
+    assert run.history["t"][-1] == pytest.approx(0.2)
 
 
-def test_paper_study_scenes_match_the_friction_sets():
-    for case in ("a", "b"):
-        for number, (mu_s, mu_d) in FRICTION_SETS.items():
-            scene = load_scene(PAPER_STUDY_SCENES, child=f"{case}_{number}")
-            assert scene.manoeuvre.case == case
-            if mu_s == 0:
-                assert scene.friction.mode == "off" and scene.car.strut_damping_Nspm == 1250.0
-            else:
-                assert (scene.friction.mu_s, scene.friction.mu_d) == (mu_s, mu_d)
-                assert scene.car.strut_damping_Nspm == 0.0
+def test_a_channel_not_logged_has_no_logger_and_no_column():
+    scene = car_scene("straight", "logging: {channels: [chassis]}\n"
+                                  "simulator: {end_time_s: 0.05}")
+    history = simulate(scene).history
+    assert set(history) == {"t", "phase", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad",
+                            "yaw_rad", "yaw_rate_radps", "speed_mps", "sideslip_rad",
+                            "ax_mps2", "ay_mps2"}
 
 
-def test_scene_text_overrides_and_round_trip(tmp_path):
-    scene = load_scene(PAPER_STUDY_SCENES, child="a_3",
-                       scene_text="friction: {mu_s: 0.5, mu_d: 0.3}\ncar: {ball_joint_offset_b_m: 0.06}")
-    assert scene.friction.mu_s == 0.5 and scene.friction.mode == "translation_rotation"
-    assert resolve(scene).params.front.ball_joint_offset_b_m == 0.06
-    path = tmp_path / "copy.yaml"
-    path.write_text("copy:\n" + "\n".join("  " + line for line in dump_scene(scene).splitlines()))
-    assert load_scene(path, child="copy") == scene
+def test_visualiser_only_when_asked_for_and_the_replay_comes_back():
+    scene = dataclasses.replace(car_scene("settle", "simulator: {end_time_s: 0.05}"),
+                                visualization=MeshcatReplay())
+    run = simulate(scene)
+    assert "<html" in run.replay_html.lower() and "meshcat" in run.replay_html.lower()
 
 
-@pytest.mark.parametrize("text, match", [
-    ("frictoin: {mode: 'off'}", "frictoin"),
-    ("friction: {mu_z: 0.2}", "mu_z"),
-    ("friction: {mode: dry}", "friction.mode"),
-    ("tyres: {model: brush}", "tyres.model"),
-    ("simulator: {time_step_s: -1.0}", "simulator.time_step_s"),
-    ("friction: {mode: translation, mu_s: 0.1, mu_d: 0.2}", "mu_s"),
-    ("road: {profile: bump, length_m: 0.0}", "length_m"),
-])
-def test_bad_scenes_name_the_key(text, match):
-    with pytest.raises(SceneError, match=match):
-        resolve(load_scene(scene_text=text))
+# Each override must change the run (its history) and the saved scene. The base is a_3 for
+# 1.2 s (settled, then 0.4 s of the speed-up), so each effect has acted.
+BASE_TEXT = "simulator: {end_time_s: 1.2}"
+OVERRIDES = {
+    "friction scheme": "friction: {scheme: reference}\nplant: {time_step: 5.0e-6}\n"
+                       "simulator: {end_time_s: 0.02}",
+    "tyres linear": "tyres: !LinearTyre {}",
+    "tyres pure slip": "tyres: !MagicFormula {combined_slip: false}",
+    "tyres no relaxation": "tyres: !MagicFormula {slip: {relaxation: false}}",
+    "time step": "plant: {time_step: 0.0005}",
+    "sap pacer off": "simulator: {sap_pacer: false}",
+    "start at design": "simulator: {start: design}",
+    "ball-joint offset b": "car: {front: {ball_joint_offset_b_m: 0.06}}",
+    "friction law": "friction: {law: {mu_s: 0.3}}",
+    "friction pairs": "friction: {pairs: translation}",
+    "no friction": "friction: null",
+    "road": "road: !CosineBump {start_x_m: -0.5, length_m: 1.5, height_m: 0.02}",
+    "drive reaction": "drive: !PrescribedRotation {reaction: knuckle}",
+    "open differential": "drive: !OpenDifferential {}",
+    "speed-up": "manoeuvre: !LaneChange {timeline: {speed_up_s: 2.0}}",
+    "equilibrium settle time": "simulator: {equilibrium_settle_s: 3.0}",
+    "equilibrium step": "simulator: {equilibrium_time_step_s: 0.0005}",
+}
 
 
-def test_missing_scene_file(tmp_path):
-    with pytest.raises(SceneError, match="nowhere.yaml: scene file not found"):
-        load_scene(tmp_path / "nowhere.yaml")
+@pytest.fixture(scope="module")
+def base_run():
+    return simulate(paper_scene("a_3", BASE_TEXT))
 
 
-def test_timeline_from_a_scene():
-    scene = load_scene(scene_text="manoeuvre: {timeline: {straight_s: 2.0, speed_kph: 50.0}}")
-    timeline = resolve(scene).timeline
-    assert timeline.straight_s == 2.0 and timeline.speed_mps == pytest.approx(50 / 3.6)
-    with pytest.raises(SceneError, match="speed_up_s"):
-        resolve(load_scene(scene_text="manoeuvre: {timeline: {speed_up_s: 0.0}}"))
+@pytest.mark.parametrize("label", list(OVERRIDES))
+def test_every_scene_value_changes_the_run(label, base_run):
+    scene = paper_scene("a_3", BASE_TEXT + "\n" + OVERRIDES[label])
+    assert dump_scene(scene) != dump_scene(base_run.scene), "the saved scene must differ"
+    run = simulate(scene)
+    base, other = base_run.history, run.history
+    n = min(len(base["t"]), len(other["t"]))
+    changed = any(not np.array_equal(base[c][:n], other[c][:n])
+                  for c in base if c != "phase" and c in other)
+    assert changed, f"{label}: the run did not change"
 
 
-@pytest.mark.parametrize("channels, columns", [
-    ("[chassis]", {"x_m", "y_m", "yaw_rad", "yaw_rate_radps", "speed_mps"}),
-    ("[struts, friction]", {"d_left_m", "d_right_m", "rot_left_rad", "rot_right_rad"} | {
-        f"friction_{side}_{kind}_{field}" for side in ("left", "right")
-        for kind in ("translation", "rotation")
-        for field in ("v", "creep", "beta", "mu1", "mu", "phase", "N", "friction")}),
-    ("[]", set()),
-])
-def test_a_channel_not_logged_has_no_logger(channels, columns):
-    text = (f"logging: {{channels: {channels}}}\n"
-            "friction: {mode: translation_rotation, mu_s: 0.4, mu_d: 0.3}\n"
-            "simulator: {end_time_s: 0.05}")
-    scene = load_scene(SCENES[0][0].parent / "car.yaml", child="straight", scene_text=text)
-    names = set(system_names(scene))
-    assert names == expected_systems(scene)
-    assert {n for n in names if n.startswith("log_")} == {
-        f"log_{g}" for g in scene.logging.channels}
-    history = run_scene(scene).history
-    assert set(history) == columns | {"t", "phase"}
-    assert_allclose(history["t"], np.arange(6) * 0.01, atol=1e-12)
+def test_saved_scene_reruns_bit_for_bit(tmp_path, base_run):
+    path = tmp_path / "scene.yaml"
+    path.write_text(dump_scene_file(base_run.scene))
+    again = simulate(load_scene(path))
+    assert scene_hash(again.scene) == scene_hash(base_run.scene)
+    write_csv(tmp_path / "first.csv", base_run.history)
+    write_csv(tmp_path / "again.csv", again.history)
+    assert (tmp_path / "first.csv").read_bytes() == (tmp_path / "again.csv").read_bytes()
+    # ...and the CSV carries the bits: read back, it equals the history exactly.
+    read = read_csv(tmp_path / "first.csv")
+    assert all(np.array_equal(read[c], base_run.history[c]) for c in read if c != "phase")
 
 
-def test_unknown_log_channel_is_named():
-    with pytest.raises(SceneError, match="logging.channels: 'wheels' must be one of"):
-        load_scene(scene_text="logging: {channels: [chassis, wheels]}")
+def test_the_diagram_picture_is_the_run_s_own():
+    with_friction = simulate(paper_scene("a_3", "simulator: {end_time_s: 0.05}"))
+    without = simulate(paper_scene("a_3", "simulator: {end_time_s: 0.05}\nfriction: null"))
+    assert "strut_friction" in with_friction.diagram_dot
+    assert "strut_friction" not in without.diagram_dot
 
 
-@pytest.mark.parametrize("mode", ["meshcat_html", "meshcat_live"])
-@pytest.mark.parametrize("child", ["settle", "straight"])
-def test_visualization_modes(mode, child):
-    """A visualiser only when asked for; the replay page comes back with the result; the live
-    mode (here unpaced: realtime_rate 0) runs against a local Meshcat server."""
-    text = (f"visualization: {{mode: {mode}, realtime_rate: 0.0}}\n"
-            "simulator: {end_time_s: 0.05}")
-    scene = load_scene(SCENES[0][0].parent / "car.yaml", child=child, scene_text=text)
-    assert set(system_names(scene)) == expected_systems(scene)
-    result = run_scene(scene)
-    if mode == "meshcat_html":
-        assert "<html" in result.html.lower() and "meshcat" in result.html.lower()
-    else:
-        assert result.html is None
+def test_the_pacer_is_decoupled_and_light():
+    # The energy channel leaves the pacer's body out (a 1 kg body, decoupled from the car).
+    assert PACER_MASS_KG == 1.0
+
+
+def test_content_hash_ignores_the_name_only():
+    a = paper_scene("a_3")
+    assert scene_hash(a) == scene_hash(dataclasses.replace(a, name="other"))
+    assert scene_hash(a) != scene_hash(paper_scene("a_3", "friction: {law: {mu_s: 0.39}}"))
+
+
+def test_missing_entry_is_named(tmp_path):
+    with pytest.raises(SceneError, match=r"no scene 'zz'; it holds a_1, a_2"):
+        paper_scene("zz")

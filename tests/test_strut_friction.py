@@ -14,8 +14,9 @@ from pydrake.multibody.tree import PrismaticJoint, SpatialInertia, UnitInertia
 from pydrake.systems.analysis import Simulator
 
 from drake_car.law.frd_friction import StrutFrictionParameters, shape_max_slope
-from drake_car.rig import RigOptions, build_rig, simulate_rig
-from drake_car.systems.strut_friction import StrutFriction, declare_pairs
+from drake_car.sim.rig import RigOptions, build_rig, simulate_rig
+from drake_car.systems.friction_pairs import Strut, declare_pairs
+from drake_car.systems.strut_friction import StrutFriction
 
 G = 9.81
 MASS = 30.0
@@ -46,7 +47,8 @@ def test_ports_and_discrete_update_alone():
                                           [1, 0, 0]))
     pairs = declare_pairs(plant, joint, None, "fast")
     plant.Finalize()
-    system = StrutFriction(plant, pairs, LAW, scheme="fast", constant_normal_force_N=1000.0)
+    system = StrutFriction(plant, [Strut(pairs, constant_normal_force_N=1000.0)], LAW,
+                           scheme="fast")
     names = [system.get_input_port(i).get_name() for i in range(system.num_input_ports())]
     assert names == ["plant_state"]
     outputs = [system.get_output_port(i).get_name() for i in range(system.num_output_ports())]
@@ -56,8 +58,8 @@ def test_ports_and_discrete_update_alone():
     # 2 µm of creep and computes the step's outputs from it.
     system.GetInputPort("plant_state").FixValue(context, [2e-6, 0.0])
     context.SetDiscreteState(system.EvalUniquePeriodicDiscreteUpdate(context))
-    assert_allclose(context.get_discrete_state(0).get_value(), [2e-6, 0.0, 2e-6],
-                    err_msg="creep, phase, q_prev")
+    memory = [context.get_discrete_state(i).get_value()[0] for i in range(3)]
+    assert_allclose(memory, [2e-6, 0.0, 2e-6], err_msg="creep, phase, q_prev")
     diagnostics = system.GetOutputPort("diagnostics").Eval(context)
     assert_allclose(diagnostics[1], 2e-6, err_msg="creep")
     mu1 = LAW.mu_s * (0.4 ** 2 * (3 - 0.8))  # cubic STEP at |Δ|/Δmax = 0.4
@@ -189,7 +191,7 @@ def test_rotation_pair_sticks_below_and_slides_above_mu_s(ratio):
     """A torque of ratio·μs·N·r on a revolute joint (inertia 0.5 kg m², about a knuckle and
     wheel about the strut axis): sticks within Δmax (rad) below 1, spins up at
     (τ - μd N r)/I above."""
-    normal, radius, inertia = 3000.0, LAW.rod_radius_m, 0.5
+    normal, radius, inertia = 3000.0, RigOptions().rod_radius_m, 0.5
     torque = ratio * LAW.mu_s * normal * radius
     options = RigOptions(mass_kg=inertia / 0.01, normal_force_N=normal, force_N=torque,
                          rotational=True, time_step_s=1e-3, scheme="fast")

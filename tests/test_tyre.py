@@ -7,7 +7,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.multibody.plant import MultibodyPlant
 
-from drake_car.law.road import flat as flat_road
+from drake_car.law.road import Flat
 from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
 from drake_car.model.car import add_car
 from drake_car.systems.tyre import WHEELS, TyreSystem
@@ -20,7 +20,7 @@ def test_contact_point_of_a_cambered_wheel():
     # along the in-plane downward direction, i.e. R cos(5 deg) below it.
     tilt = np.radians(5.0)
     axis = np.array([0.0, np.cos(tilt), np.sin(tilt)])
-    point, deflection, _ = contact_point(np.array([1.0, 2.0, 0.29]), axis, 0.3, flat_road)
+    point, deflection, _ = contact_point(np.array([1.0, 2.0, 0.29]), axis, 0.3, Flat())
     assert_allclose(deflection, 0.3 * np.cos(tilt) - 0.29, rtol=1e-12)
     assert_allclose(point[2], 0.0)
 
@@ -72,20 +72,23 @@ def test_tyre_system_alone():
 
 
 def test_road_profiles():
-    from drake_car.law.road import CosineBump, RoadProfileError, SampledProfile
-    bump = CosineBump(start_x_m=10.0, length_m=0.5, height_m=0.04)
+    from drake_car.law.checks import ParameterError
+    from drake_car.law.road import CosineBump, SampledProfile
+    bump = CosineBump(start_x_m=10.0, length_m=0.5, height_m=0.04).check()
     assert bump(9.9, 0.0) == 0.0 and bump(10.5, 1.0) == 0.0
     assert bump(10.25, -0.7) == pytest.approx(0.04)
     pothole = CosineBump(10.0, 0.5, -0.03)
     assert pothole(10.25, 0.0) == pytest.approx(-0.03)
-    samples = SampledProfile((0.0, 1.0, 3.0), (0.0, 0.01, -0.01))
+    samples = SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01]).check()
     assert samples(0.5, 0.0) == pytest.approx(0.005) and samples(5.0, 0.0) == -0.01
-    with pytest.raises(RoadProfileError, match="increase strictly"):
-        SampledProfile((0.0, 1.0, 1.0), (0, 0, 0))
-    with pytest.raises(RoadProfileError, match="sample 1 is not finite"):
-        SampledProfile((0.0, float("nan")), (0, 0))
-    with pytest.raises(RoadProfileError, match="length_m"):
-        CosineBump(0.0, 0.0, 0.1)
+    with pytest.raises(ParameterError, match=r"x_m\[2\] = 1.0 must be > x_m\[1\]"):
+        SampledProfile([0.0, 1.0, 1.0], [0, 0, 0]).check()
+    with pytest.raises(ParameterError, match=r"x_m\[1\] = nan must be a finite number"):
+        SampledProfile([0.0, float("nan")], [0, 0]).check()
+    with pytest.raises(ParameterError, match="length_m = 0.0 must be > 0"):
+        CosineBump(0.0, 0.0, 0.1).check()
+    with pytest.raises(ParameterError, match="slope"):  # 0.2 m over 0.5 m: 1.26 > 0.3
+        CosineBump(0.0, 0.5, 0.2).check()
 
 
 def test_tyre_load_on_a_bump():

@@ -30,15 +30,13 @@ does not build up further "memory"); μ1 saturates at μs there, as the paper st
 import dataclasses
 import math
 
+from drake_car.law.checks import ParameterError, nonnegative, one_of, positive
+
 STATIC = 0.0
 KINETIC = 1.0
 
 SHAPES = ("cubic", "linear")
 NORMAL_FORCE_FORMS = ("vector", "magnitude_sum", "contact_pair")
-
-
-class FrictionParameterError(ValueError):
-    """A friction parameter is out of range; the message names it."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -53,23 +51,12 @@ class FrictionPairLaw:
     creep_shape: str = "cubic"
 
     def __post_init__(self):
-        for name in ("mu_s", "mu_d", "dv", "dmax"):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value)):
-                raise FrictionParameterError(f"{name} = {value!r} must be a finite number")
-        if self.mu_d < 0:
-            raise FrictionParameterError(f"mu_d = {self.mu_d} must be >= 0")
+        nonnegative(self, "mu_s", "mu_d")
+        positive(self, "dv", "dmax")
         if self.mu_s < self.mu_d:
-            raise FrictionParameterError(
-                f"mu_s = {self.mu_s} must be >= mu_d = {self.mu_d}")
-        if not self.dv > 0:
-            raise FrictionParameterError(f"dv (threshold velocity) = {self.dv} must be > 0")
-        if not self.dmax > 0:
-            raise FrictionParameterError(f"dmax (maximum creep) = {self.dmax} must be > 0")
-        for name in ("beta_shape", "creep_shape"):
-            if getattr(self, name) not in SHAPES:
-                raise FrictionParameterError(
-                    f"{name} = {getattr(self, name)!r} must be one of {SHAPES}")
+            raise ParameterError("mu_d", self.mu_d, f"must be <= mu_s = {self.mu_s}")
+        one_of(self, "beta_shape", SHAPES)
+        one_of(self, "creep_shape", SHAPES)
 
     @property
     def lubricated(self):
@@ -145,7 +132,7 @@ def normal_force(f_transverse, m_transverse, overlap, preload_force, mu_s, form=
     overlap; ``overlap`` is d > 0 (m); ``axis`` the unit joint axis (for "contact_pair").
     Returns N ≥ 0 (N)."""
     if not overlap > 0:
-        raise FrictionParameterError(f"overlap d = {overlap} must be > 0")
+        raise ParameterError("overlap d", overlap, "must be > 0 (m)")
     preload = preload_force / mu_s if preload_force > 0 else 0.0
     fx, fy, fz = f_transverse
     mx, my, mz = m_transverse
@@ -157,13 +144,13 @@ def normal_force(f_transverse, m_transverse, overlap, preload_force, mu_s, form=
                 + math.sqrt(mx * mx + my * my + mz * mz) / overlap + preload)
     if form == "contact_pair":
         if axis is None:
-            raise FrictionParameterError("normal-force form 'contact_pair' needs the joint axis")
+            raise ValueError("normal-force form 'contact_pair' needs the joint axis")
         ux, uy, uz = axis
         k = 2.0 / overlap  # (2/d) û × M
         cx, cy, cz = k * (uy * mz - uz * my), k * (uz * mx - ux * mz), k * (ux * my - uy * mx)
         return 0.5 * (math.sqrt((fx - cx) ** 2 + (fy - cy) ** 2 + (fz - cz) ** 2)
                       + math.sqrt((fx + cx) ** 2 + (fy + cy) ** 2 + (fz + cz) ** 2)) + preload
-    raise FrictionParameterError(f"normal-force form {form!r} must be one of {NORMAL_FORCE_FORMS}")
+    raise ParameterError("normal_force_form", form, f"must be one of {NORMAL_FORCE_FORMS}")
 
 
 def friction_force(mu, normal):
@@ -177,10 +164,12 @@ def friction_moment(mu_rot, normal, rod_radius, preload_moment, mu_s):
     return mu_rot * (normal * rod_radius + preload)
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass
 class StrutFrictionParameters:
-    """Both pairs of a cylindrical joint with friction (paper section 3). Paper values default,
-    with the "practically realistic" dry set (μs, μd) = (0.2, 0.15)."""
+    """Both pairs of a cylindrical joint with friction (paper section 3): the law's parameters,
+    loadable from a scene (``friction.law``). Paper values default, with the "practically
+    realistic" dry set (μs, μd) = (0.2, 0.15). The rod radius r of eq. (6) is the strut's
+    geometry, not the law's: the system takes it from the model."""
 
     mu_s: float = 0.2
     mu_d: float = 0.15
@@ -188,30 +177,34 @@ class StrutFrictionParameters:
     dmax_translation_m: float = 5e-6
     dv_rotation_radps: float = 1e-4
     dmax_rotation_rad: float = 5e-6
-    beta_shape: str = "cubic"
-    creep_shape: str = "cubic"
-    rod_radius_m: float = 0.011
-    preload_force_N: float = 0.0  # F0
-    preload_moment_Nm: float = 0.0  # M0
-    normal_force_form: str = "vector"
+    beta_shape: str = "cubic"  # cubic (ADAMS STEP) | linear
+    creep_shape: str = "cubic"  # cubic (ADAMS STEP) | linear
+    preload_force_N: float = 0.0  # F0 of eq. (4)
+    preload_moment_Nm: float = 0.0  # M0 of eq. (6)
+    normal_force_form: str = "vector"  # vector (paper) | magnitude_sum (ADAMS) | contact_pair
 
     def __post_init__(self):
-        self.translation()
-        self.rotation()
-        if not (math.isfinite(self.rod_radius_m) and self.rod_radius_m > 0):
-            raise FrictionParameterError(f"rod_radius_m = {self.rod_radius_m} must be > 0")
+        self.check()
+
+    def check(self):
+        """Raises ParameterError naming the first field out of range."""
+        nonnegative(self, "mu_s", "mu_d", "preload_force_N", "preload_moment_Nm")
+        positive(self, "dv_translation_mps", "dmax_translation_m", "dv_rotation_radps",
+                 "dmax_rotation_rad")
+        if self.mu_s > 2.0:
+            raise ParameterError("mu_s", self.mu_s, "must be <= 2 (dry metal on metal is "
+                                 "below 1; larger values are a typing error)")
+        if self.mu_s < self.mu_d:
+            raise ParameterError("mu_d", self.mu_d, f"must be <= mu_s = {self.mu_s}")
+        one_of(self, "beta_shape", SHAPES)
+        one_of(self, "creep_shape", SHAPES)
+        one_of(self, "normal_force_form", NORMAL_FORCE_FORMS)
         for name in ("preload_force_N", "preload_moment_Nm"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0):
-                raise FrictionParameterError(f"{name} = {value} must be >= 0")
-            if value > 0 and self.mu_s == 0:
-                raise FrictionParameterError(
-                    f"{name} = {value} with mu_s = 0: eq. (4)/(6) divide the preload by mu_s; "
-                    "a lubricated strut has no preload")
-        if self.normal_force_form not in NORMAL_FORCE_FORMS:
-            raise FrictionParameterError(
-                f"normal_force_form = {self.normal_force_form!r} must be one of "
-                f"{NORMAL_FORCE_FORMS}")
+            if getattr(self, name) > 0 and self.mu_s == 0:
+                raise ParameterError(name, getattr(self, name),
+                                     "must be 0 when mu_s = 0: eqs. (4) and (6) divide the "
+                                     "preload by mu_s (a lubricated strut has no preload)")
+        return self
 
     def translation(self):
         return FrictionPairLaw(self.mu_s, self.mu_d, self.dv_translation_mps,

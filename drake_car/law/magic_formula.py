@@ -30,6 +30,10 @@ REQUIRED = (
 # Coefficients of the book's formulas that may be absent (value when absent).
 OPTIONAL = {"PKY4": 2.0, "PKY5": 0.0, "PKY6": 0.0, "PKY7": 0.0, "PEY5": 0.0, "RBX3": 0.0,
             "RBY4": 0.0, "QBZ6": 0.0, "QDZ10": 0.0, "QDZ11": 0.0}
+# |F|/Fz above this is no road tyre (racing slicks reach about 1.8).
+MAX_FRICTION_COEFFICIENT = 2.5
+# Slip and cornering stiffness per unit load above this is no road tyre (they have 5-40 /rad).
+MAX_STIFFNESS_PER_LOAD = 200.0
 SCALING = ("LFZO", "LCX", "LMUX", "LEX", "LKX", "LHX", "LVX", "LCY", "LMUY", "LEY",
            "LKY", "LKYC", "LKZC", "LHY", "LVY", "LTR", "LRES", "LXAL", "LYKA", "LVYKA", "LS",
            "LMY")
@@ -52,6 +56,9 @@ class MagicFormulaTyre:
         for key in ("UNLOADED_RADIUS", "FNOMIN", "LONGVL"):
             if not self.coefficients[key] > 0:
                 raise TirFileError(f"{self.name}: {key} = {self.coefficients[key]} must be > 0")
+        if not 0.1 <= self.coefficients["UNLOADED_RADIUS"] <= 2.0:
+            raise TirFileError(f"{self.name}: UNLOADED_RADIUS = "
+                               f"{self.coefficients['UNLOADED_RADIUS']} m must lie in [0.1, 2]")
         # Coefficients as attributes (fast to read in the per-step formulas); scaling factors
         # default to 1.
         for key in SCALING:
@@ -60,6 +67,51 @@ class MagicFormulaTyre:
             object.__setattr__(self, key, float(self.coefficients.get(key, default)))
         for key in REQUIRED:
             object.__setattr__(self, key, float(self.coefficients[key]))
+
+        self._check_forces()
+
+    def _check_forces(self):
+        """The coefficients must give a road tyre: over loads 0.25 ... 2 FNOMIN and slips up to
+        κ = ±1, α = ±30 deg, γ = ±10 deg the forces are finite, the friction coefficients
+        |F|/Fz stay below ``MAX_FRICTION_COEFFICIENT`` and the cornering and slip stiffnesses
+        have the signs of the ISO convention (Kyα < 0, Kx > 0). Catches a mistyped exponent
+        (1e300) before it reaches a simulation as a NaN."""
+        for key, scale in (("PCX1", "LCX"), ("PCY1", "LCY")):
+            shape_factor = self.coefficients[key] * getattr(self, scale)
+            if not 0 < shape_factor <= 3:
+                raise TirFileError(f"{self.name}: {key} = {self.coefficients[key]} gives the shape "
+                                   f"factor C = {shape_factor:.4g}; it must lie in (0, 3] "
+                                   "(Pacejka 2006: about 1.3-1.7 for a road tyre)")
+        for load_ratio in (0.25, 1.0, 2.0):
+            fz = load_ratio * self.FNOMIN
+            for kappa, alpha, gamma in ((0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (-1.0, 0.0, 0.0),
+                                        (0.0, 0.1, 0.0), (0.0, -0.5, 0.0), (0.2, 0.2, 0.17),
+                                        (-0.2, -0.2, -0.17)):
+                try:
+                    f = magic_formula(self, fz, kappa, alpha, gamma, 16.7)
+                except (ArithmeticError, ValueError) as e:
+                    raise TirFileError(f"{self.name}: the Magic Formula fails at Fz = {fz:g} N,"
+                                       f" κ = {kappa}, α = {alpha} rad: {e}") from None
+                values = (f.fx, f.fy, f.mz, f.my, f.cornering_stiffness, f.slip_stiffness)
+                if not all(math.isfinite(v) for v in values):
+                    raise TirFileError(f"{self.name}: the Magic Formula gives non-finite forces "
+                                       f"at Fz = {fz:g} N, κ = {kappa}, α = {alpha} rad "
+                                       "(a coefficient is out of range)")
+                ratio = max(abs(f.fx), abs(f.fy)) / fz
+                if ratio > MAX_FRICTION_COEFFICIENT:
+                    raise TirFileError(
+                        f"{self.name}: the Magic Formula gives |F|/Fz = {ratio:.3g} at Fz = "
+                        f"{fz:g} N, κ = {kappa}, α = {alpha} rad; a road tyre stays below "
+                        f"{MAX_FRICTION_COEFFICIENT} (a coefficient is out of range)")
+                if kappa == alpha == gamma == 0.0 and not (
+                        -MAX_STIFFNESS_PER_LOAD * fz < f.cornering_stiffness < 0
+                        < f.slip_stiffness < MAX_STIFFNESS_PER_LOAD * fz):
+                    raise TirFileError(
+                        f"{self.name}: at Fz = {fz:g} N the cornering stiffness "
+                        f"{f.cornering_stiffness:.4g} N/rad must lie in (-{MAX_STIFFNESS_PER_LOAD:g}"
+                        f" Fz, 0) and the slip stiffness {f.slip_stiffness:.4g} N in (0, "
+                        f"{MAX_STIFFNESS_PER_LOAD:g} Fz) (ISO signs: PKY1 < 0, PKX1 > 0; road "
+                        "tyres have 5-40 Fz)")
 
     @classmethod
     def from_file(cls, path):

@@ -1,66 +1,116 @@
-"""Road height profiles z = h(x, y) (m) for the tyres' contact (pure numpy). The road's local
-normal is taken as +z by the tyre model, so profiles should have gentle slopes (a bump of
-h over a length L has slope π h / L at most)."""
+"""Road height profiles z = h(x, y) (m) for the tyres' contact (pure numpy), as loadable
+dataclasses (a scene's ``road`` is one of them, chosen by its YAML tag: ``!Flat``,
+``!CosineBump``, ``!SampledProfile``). The road's local normal is taken as +z by the tyre model,
+so profiles must have gentle slopes: ``check()`` refuses slopes above ``MAX_SLOPE``."""
 
 import dataclasses
 import math
+import typing
 
 import numpy as np
 
+from drake_car.law.checks import ParameterError, finite, positive
 
-class RoadProfileError(ValueError):
-    """A road profile's parameters or samples are invalid; the message names them."""
+# The tyre model takes the road normal as +z: slopes up to 0.3 (17 deg) keep cos(slope) > 0.95,
+# i.e. the normal load within 5 % of what a tilted normal would give.
+MAX_SLOPE = 0.3
+# A road that is not a road: profiles are bounded to ±1 m of height and 10 km of length.
+MAX_HEIGHT_M = 1.0
+MAX_LENGTH_M = 1e4
 
 
-def flat(x, y):
-    return 0.0
+@dataclasses.dataclass
+class Flat:
+    """The flat road z = 0."""
+
+    def check(self):
+        return self
+
+    def height(self, x, y):
+        return 0.0
+
+    __call__ = height
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass
 class CosineBump:
     """A bump (height > 0) or pothole (height < 0) across the whole road: one cosine wave of
-    ``length_m`` starting at ``start_x_m`` (smooth, zero slope at both ends)."""
+    ``length_m`` starting at ``start_x_m`` (smooth, zero slope at both ends; largest slope
+    π·|h|/L)."""
 
-    start_x_m: float
-    length_m: float
-    height_m: float
+    start_x_m: float = 40.0
+    length_m: float = 1.5
+    height_m: float = 0.05
 
-    def __post_init__(self):
-        if not (math.isfinite(self.length_m) and self.length_m > 0):
-            raise RoadProfileError(f"road bump length_m = {self.length_m} must be > 0")
-        if not (math.isfinite(self.start_x_m) and math.isfinite(self.height_m)):
-            raise RoadProfileError("road bump start_x_m and height_m must be finite")
+    def check(self):
+        finite(self, "start_x_m", "height_m")
+        positive(self, "length_m")
+        if self.length_m > MAX_LENGTH_M:
+            raise ParameterError("length_m", self.length_m, f"must be <= {MAX_LENGTH_M:g} m")
+        if abs(self.height_m) > MAX_HEIGHT_M:
+            raise ParameterError("height_m", self.height_m,
+                                 f"must lie in [-{MAX_HEIGHT_M:g}, {MAX_HEIGHT_M:g}] m")
+        slope = math.pi * abs(self.height_m) / self.length_m
+        if slope > MAX_SLOPE:
+            raise ParameterError("length_m", self.length_m,
+                                 f"is too short for height_m = {self.height_m}: the largest "
+                                 f"slope π|h|/L = {slope:.2f} must be <= {MAX_SLOPE} (the tyre "
+                                 "model takes the road normal as vertical)")
+        return self
 
-    def __call__(self, x, y):
+    def height(self, x, y):
         s = (x - self.start_x_m) / self.length_m
         if s <= 0.0 or s >= 1.0:
             return 0.0
         return 0.5 * self.height_m * (1.0 - math.cos(2.0 * math.pi * s))
 
+    __call__ = height
 
-@dataclasses.dataclass(frozen=True)
+
+@dataclasses.dataclass
 class SampledProfile:
     """A measured longitudinal profile: heights ``z_m`` at stations ``x_m`` (strictly
     increasing), linear in between, the end heights held outside."""
 
-    x_m: tuple
-    z_m: tuple
+    x_m: typing.List[float] = dataclasses.field(default_factory=lambda: [0.0, 1.0])
+    z_m: typing.List[float] = dataclasses.field(default_factory=lambda: [0.0, 0.0])
 
-    def __post_init__(self):
-        x, z = np.asarray(self.x_m, dtype=float), np.asarray(self.z_m, dtype=float)
-        if x.ndim != 1 or x.shape != z.shape or x.size < 2:
-            raise RoadProfileError(
-                f"road samples: x_m and z_m must be lists of the same length >= 2 "
-                f"(got {x.size} and {z.size})")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(z))):
-            bad = int(np.flatnonzero(~(np.isfinite(x) & np.isfinite(z)))[0])
-            raise RoadProfileError(f"road samples: sample {bad} is not finite")
-        steps = np.diff(x)
-        if np.any(steps <= 0):
-            bad = int(np.flatnonzero(steps <= 0)[0]) + 1
-            raise RoadProfileError(f"road samples: x_m must increase strictly (sample {bad})")
-        object.__setattr__(self, "_x", x)
-        object.__setattr__(self, "_z", z)
+    def check(self):
+        x, z = list(self.x_m), list(self.z_m)
+        if len(x) < 2 or len(x) != len(z):
+            raise ParameterError("x_m", f"{len(x)} samples",
+                                 f"and z_m ({len(z)} samples) must be lists of the same "
+                                 "length >= 2")
+        for name, values in (("x_m", x), ("z_m", z)):
+            for i, value in enumerate(values):
+                if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                    raise ParameterError(f"{name}[{i}]", value, "must be a finite number")
+        for i in range(1, len(x)):
+            if not x[i] > x[i - 1]:
+                raise ParameterError(f"x_m[{i}]", x[i],
+                                     f"must be > x_m[{i - 1}] = {x[i - 1]} (strictly "
+                                     "increasing)")
+            slope = abs(z[i] - z[i - 1]) / (x[i] - x[i - 1])
+            if slope > MAX_SLOPE:
+                raise ParameterError(f"z_m[{i}]", z[i],
+                                     f"makes a slope of {slope:.2f} from sample {i - 1}; "
+                                     f"slopes must be <= {MAX_SLOPE} (the tyre model takes "
+                                     "the road normal as vertical)")
+        if max(abs(v) for v in z) > MAX_HEIGHT_M:
+            raise ParameterError("z_m", max(z, key=abs),
+                                 f"must lie in [-{MAX_HEIGHT_M:g}, {MAX_HEIGHT_M:g}] m")
+        return self
 
-    def __call__(self, x, y):
-        return float(np.interp(x, self._x, self._z))
+    def height(self, x, y):
+        # Arrays made at the first call (a profile is not changed once a simulation uses it).
+        arrays = self.__dict__.get("_arrays")
+        if arrays is None:
+            arrays = (np.asarray(self.x_m, dtype=float), np.asarray(self.z_m, dtype=float))
+            self.__dict__["_arrays"] = arrays
+        return float(np.interp(x, arrays[0], arrays[1]))
+
+    __call__ = height
+
+
+ROAD_TYPES = (Flat, CosineBump, SampledProfile)
+Road = typing.Union[Flat, CosineBump, SampledProfile]

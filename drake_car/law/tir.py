@@ -68,9 +68,16 @@ def parse_tir(text, name="<tir text>"):
 
 def read_tir(path):
     path = Path(path)
+    if path.is_dir():
+        raise TirFileError(f"{path}: is a folder, not a tyre property file")
     if not path.is_file():
         raise TirFileError(f"{path}: tyre property file not found")
-    return parse_tir(path.read_text(), str(path))
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise TirFileError(f"{path}: not a text file (byte {e.start} is not UTF-8); a .tir "
+                           "file is plain text") from None
+    return parse_tir(text, str(path))
 
 
 def format_tir(values, sections, header=""):

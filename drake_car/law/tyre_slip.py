@@ -17,28 +17,38 @@ slips κ = -V_sx/|V_cx|, tan α = V_sy/|V_cx| are used, with |V_cx| floored at `
 import dataclasses
 import math
 
+from drake_car.law.checks import ParameterError, nonnegative, positive
 
 
-@dataclasses.dataclass(frozen=True)
+
+@dataclasses.dataclass
 class SlipOptions:
+    """How slips are formed (loadable: a scene's ``tyres.slip``)."""
+
     # [EST] relaxation lengths of a 205/60R15 passenger tyre at nominal load: Pacejka (2006)
     # gives σα of the order of the tyre radius to twice it and σκ several times shorter.
     relaxation_length_long_m: float = 0.15
     relaxation_length_lat_m: float = 0.45
     relaxation: bool = True
-    # Below this speed the steady-state slips use it as the denominator (no division by zero).
+    # Without relaxation, the steady-state slips use this speed as the smallest denominator.
     v_floor_mps: float = 1.0
     # Viscous contact damping faded in below ``low_speed_mps`` (damps the standstill springs).
     low_speed_mps: float = 1.0
     low_speed_damping_Nspm: float = 1500.0
 
     def __post_init__(self):
-        for name in ("relaxation_length_long_m", "relaxation_length_lat_m", "v_floor_mps",
-                     "low_speed_mps"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"tyre slip option {name} = {getattr(self, name)} must be > 0")
-        if not self.low_speed_damping_Nspm >= 0:
-            raise ValueError("tyre slip option low_speed_damping_Nspm must be >= 0")
+        self.check()
+
+    def check(self):
+        positive(self, "relaxation_length_long_m", "relaxation_length_lat_m", "v_floor_mps",
+                 "low_speed_mps")
+        nonnegative(self, "low_speed_damping_Nspm")
+        for name in ("relaxation_length_long_m", "relaxation_length_lat_m"):
+            if getattr(self, name) > 5.0:
+                raise ParameterError(name, getattr(self, name),
+                                     "must be <= 5 m (a passenger tyre relaxes within a few "
+                                     "tyre radii)")
+        return self
 
 
 @dataclasses.dataclass

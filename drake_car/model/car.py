@@ -44,6 +44,8 @@ class CarModel:
     # The compliant top mounts' spring-damper actuators (x, y, z per side; empty when rigid),
     # added right after the rack servo; their desired state is zero.
     top_mount_actuators: list = dataclasses.field(default_factory=list)
+    # The front wheels' drive actuators (model.drive), when the car drives.
+    drive_actuators: list = dataclasses.field(default_factory=list)
 
     def joint(self, name):
         return self.plant.GetJointByName(name, self.instance)
@@ -103,7 +105,7 @@ def _compute_spring_settings(params, source):
 def add_car(plant, params: CarParameters | None = None, *, model_path=None,
             fixed_chassis=False) -> CarModel:
     """Adds the car to a discrete ``plant`` (not yet finalized) and returns its handles."""
-    params = (params or CarParameters()).validate()
+    params = (params or CarParameters()).check()
     source = model_source(params, model_path)
     instance = load_car(plant, source, fixed_chassis=fixed_chassis)
     springs = spring_settings(params, source)

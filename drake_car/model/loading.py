@@ -6,6 +6,7 @@ from pathlib import Path
 from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import Parser
 
+from drake_car.data import resource
 from drake_car.model.geometry import SIDES
 
 # Bodies and joints every car model file must declare (the code addresses them by name).
@@ -71,3 +72,12 @@ def frame_point(plant, name, instance):
     """(body, position of the frame's origin in the body frame) of a named fixed frame."""
     frame = plant.GetFrameByName(name, instance)
     return frame.body(), frame.GetFixedPoseInBodyFrame().translation()
+
+
+def tir_path(name):
+    """A tyre property file: an absolute path, or a path inside the package's ``urdf/`` data
+    (``tyres/pacejka2006_205_60R15.tir``)."""
+    path = Path(name)
+    if path.is_absolute():
+        return path
+    return Path(str(resource("urdf").joinpath(name)))

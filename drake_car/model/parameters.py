@@ -26,13 +26,28 @@ where the name says ``_deg``.
 """
 
 import dataclasses
-import math
+import typing
+
+from drake_car.law.checks import ParameterError, checked, finite, nonnegative, positive
 
 GRAVITY_MPS2 = 9.81
 
 
-class ParameterError(ValueError):
-    """A car parameter is out of its physical range; the message names the parameter."""
+def _vector_check(group, name, positive_entries=False):
+    values = getattr(group, name)
+    if len(values) != 3:
+        raise ParameterError(name, values, "must be a list of 3 numbers (x, y, z)")
+    for i, value in enumerate(values):
+        if not (isinstance(value, (int, float)) and not isinstance(value, bool)
+                and value == value and abs(value) != float("inf")):
+            raise ParameterError(f"{name}[{i}]", value, "must be a finite number")
+        if positive_entries and not value > 0:
+            raise ParameterError(f"{name}[{i}]", value, "must be > 0")
+
+
+def _vector(*values):
+    """A default for a list-valued field (YAML lists load into lists, not tuples)."""
+    return dataclasses.field(default_factory=lambda: list(values))
 
 
 @dataclasses.dataclass
@@ -47,7 +62,7 @@ class MassParameters:
     # [ESC] CoG height of the sprung mass.
     sprung_cog_height_m: float = 0.594
     # [ESC] sprung-mass roll, pitch, yaw inertia about its CoG.
-    sprung_inertia_kgm2: tuple = (244.0, 1342.0, 1539.0)
+    sprung_inertia_kgm2: typing.List[float] = _vector(244.0, 1342.0, 1539.0)
     # [EST] split of [ESC]'s 65.7 kg unsprung mass per axle (32.85 kg per corner) among parts.
     front_wheel_kg: float = 15.0
     front_knuckle_kg: float = 13.0  # knuckle, hub, brake, strut cylinder
@@ -60,6 +75,17 @@ class MassParameters:
     rear_carrier_kg: float = 17.0  # trailing arm, hub, brake
     # [EST] wheel-and-tyre spin inertia (solid-disc estimate 0.5 m R^2 scaled by 0.8).
     wheel_spin_inertia_kgm2: float = 0.6
+
+    def check(self):
+        positive(self, "total_mass_kg", "cog_to_front_axle_m", "cog_to_rear_axle_m",
+                 "sprung_cog_height_m", "front_wheel_kg", "front_knuckle_kg",
+                 "front_lower_arm_kg", "piston_rod_kg", "strut_slider_kg", "tie_rod_kg",
+                 "rack_kg", "rear_wheel_kg", "rear_carrier_kg", "wheel_spin_inertia_kgm2")
+        _vector_check(self, "sprung_inertia_kgm2", positive_entries=True)
+        if self.total_mass_kg > 1e4:
+            raise ParameterError("total_mass_kg", self.total_mass_kg,
+                                 "must be <= 10000 kg (a passenger car)")
+        return self
 
 
 @dataclasses.dataclass
@@ -74,8 +100,8 @@ class FrontSuspensionParameters:
     ball_joint_height_m: float = 0.2095  # [E90] 0.104 m below the wheel centre
     ball_joint_x_m: float = 0.026
     # [E90]-scaled [EST]: lower-arm pivots (front, rear) in V.
-    lower_arm_front_pivot_m: tuple = (0.251, 0.320, 0.254)
-    lower_arm_rear_pivot_m: tuple = (-0.040, 0.346, 0.188)
+    lower_arm_front_pivot_m: typing.List[float] = _vector(0.251, 0.320, 0.254)
+    lower_arm_rear_pivot_m: typing.List[float] = _vector(-0.040, 0.346, 0.188)
     # [E90] kingpin inclination ~12 deg; [ALN] caster 2.3 deg. Top mount height [E90].
     kingpin_inclination_deg: float = 12.0
     caster_deg: float = 2.3
@@ -112,12 +138,43 @@ class FrontSuspensionParameters:
         if self.top_mount_stiffness_Npm == 0.0:
             return 0.0
         return self.top_mount_body_kg + 2 * self.top_mount_link_kg
+
+    def check(self):
+        positive(self, "track_m", "ball_joint_height_m", "top_mount_height_m",
+                 "guide_below_top_mount_m", "guide_length_l_m", "rod_radius_r_m",
+                 "strut_lower_mount_below_top_m", "wheel_rate_Npm",
+                 "spring_lower_seat_below_top_m", "rack_half_length_m", "rack_stroke_m",
+                 "top_mount_body_kg", "top_mount_link_kg")
+        finite(self, "ball_joint_offset_b_m", "ball_joint_x_m", "spring_offset_m",
+               "spring_upper_seat_below_top_m", "rack_x_m", "rack_height_m")
+        nonnegative(self, "strut_damping_Nspm", "top_mount_stiffness_Npm",
+                    "top_mount_damping_Nspm")
+        for name in ("lower_arm_front_pivot_m", "lower_arm_rear_pivot_m", "tie_rod_outer_m"):
+            _vector_check(self, name)
+        for name, limit, why in (
+                ("kingpin_inclination_deg", 30.0, "production McPherson fronts: 8-16 deg"),
+                ("strut_inclination_deg", 30.0, "production McPherson fronts: 5-15 deg"),
+                ("caster_deg", 15.0, "production cars: 0-10 deg"),
+                ("spring_inclination_deg", 20.0,
+                 "beyond it the spring line leaves the strut's tower")):
+            value = getattr(self, name)
+            finite(self, name)
+            if not -limit < value < limit:
+                raise ParameterError(name, value, f"must lie in (-{limit:g}, {limit:g}) deg "
+                                     f"({why})")
+        if not self.rod_radius_r_m < 0.05:
+            raise ParameterError("rod_radius_r_m", self.rod_radius_r_m,
+                                 "must be < 0.05 m (passenger-car rods: 10-14 mm)")
+        if not abs(self.spring_offset_m) < 0.1:
+            raise ParameterError("spring_offset_m", self.spring_offset_m,
+                                 "must lie in (-0.1, 0.1) m (the spring seat's radius)")
+        return self
     # [EST] steering: rack ahead of the axle ("front steer"), tie rods from rack ends to arms.
     rack_x_m: float = 0.15
     rack_height_m: float = 0.29  # chosen for small bump steer (< 1 deg over +-60 mm)
     rack_half_length_m: float = 0.17
     rack_stroke_m: float = 0.07
-    tie_rod_outer_m: tuple = (0.15, 0.595, 0.3135)  # near-parallel steering
+    tie_rod_outer_m: typing.List[float] = _vector(0.15, 0.595, 0.3135)  # near-parallel steering
 
 
 @dataclasses.dataclass
@@ -136,6 +193,14 @@ class RearSuspensionParameters:
     wheel_rate_Npm: float = 21898.0  # [ESC]
     wheel_damping_Nspm: float = 1459.0  # [ESC] damping at the wheel
 
+    def check(self):
+        positive(self, "track_m", "pivot_ahead_of_axle_m", "pivot_height_m", "wheel_rate_Npm",
+                 "spring_upper_height_m")
+        finite(self, "pivot_y_m", "spring_ahead_of_axle_m", "spring_y_m",
+               "spring_lower_height_m")
+        nonnegative(self, "wheel_damping_Nspm")
+        return self
+
 
 @dataclasses.dataclass
 class TyreVerticalParameters:
@@ -145,6 +210,14 @@ class TyreVerticalParameters:
     width_m: float = 0.205
     radial_stiffness_Npm: float = 189800.0  # [ESC]
     radial_damping_Nspm: float = 250.0  # [EST] ~5 % of critical for 33 kg unsprung mass
+
+    def check(self):
+        positive(self, "unloaded_radius_m", "width_m", "radial_stiffness_Npm")
+        nonnegative(self, "radial_damping_Nspm")
+        if not 0.1 <= self.unloaded_radius_m <= 1.0:
+            raise ParameterError("unloaded_radius_m", self.unloaded_radius_m,
+                                 "must lie in [0.1, 1] m (a road tyre)")
+        return self
 
 
 @dataclasses.dataclass
@@ -168,64 +241,40 @@ class CarParameters:
             "rear": weight * self.mass.cog_to_front_axle_m / self.wheelbase_m,
         }
 
-    def validate(self):
-        """Raises ParameterError naming the first parameter out of range."""
-        _positive(self.mass, "mass", [
-            "total_mass_kg", "cog_to_front_axle_m", "cog_to_rear_axle_m",
-            "sprung_cog_height_m", "front_wheel_kg", "front_knuckle_kg", "front_lower_arm_kg",
-            "piston_rod_kg", "strut_slider_kg", "tie_rod_kg", "rack_kg", "rear_wheel_kg",
-            "rear_carrier_kg", "wheel_spin_inertia_kgm2"])
-        for i, value in enumerate(self.mass.sprung_inertia_kgm2):
-            if not value > 0:
-                raise ParameterError(f"mass.sprung_inertia_kgm2[{i}] = {value} must be > 0")
-        _positive(self.front, "front", [
-            "track_m", "ball_joint_height_m", "top_mount_height_m", "guide_below_top_mount_m",
-            "guide_length_l_m", "rod_radius_r_m", "strut_lower_mount_below_top_m",
-            "wheel_rate_Npm", "spring_lower_seat_below_top_m", "rack_half_length_m",
-            "rack_stroke_m"])
-        _positive(self.rear, "rear", [
-            "track_m", "pivot_ahead_of_axle_m", "pivot_height_m", "wheel_rate_Npm",
-            "spring_upper_height_m"])
-        _positive(self.tyre, "tyre", [
-            "unloaded_radius_m", "width_m", "radial_stiffness_Npm"])
-        _nonnegative(self.front, "front", ["strut_damping_Nspm", "top_mount_stiffness_Npm",
-                                           "top_mount_damping_Nspm"])
-        _positive(self.front, "front", ["top_mount_body_kg", "top_mount_link_kg"])
-        _nonnegative(self.rear, "rear", ["wheel_damping_Nspm"])
-        _nonnegative(self.tyre, "tyre", ["radial_damping_Nspm"])
+    def check(self):
+        """Raises ParameterError naming the first parameter out of range (key path from the
+        car: ``front.guide_length_l_m``)."""
+        for group in ("mass", "front", "rear", "tyre"):
+            checked(getattr(self, group), group)
         f = self.front
         b = f.ball_joint_offset_b_m
         if not 0.0 <= b < f.track_m / 2 - 0.1:
             raise ParameterError(
-                f"front.ball_joint_offset_b_m = {b} must lie in [0, track/2 - 0.1 m): the ball "
-                "joint must sit inside the wheel, outboard of the lower-arm pivots")
-        for name in ("kingpin_inclination_deg", "strut_inclination_deg"):
-            angle = getattr(f, name)
-            if not -30.0 < angle < 30.0:
-                raise ParameterError(f"front.{name} = {angle} must lie in (-30, 30) deg")
-        if not -15.0 < f.caster_deg < 15.0:
-            raise ParameterError(f"front.caster_deg = {f.caster_deg} must lie in (-15, 15) deg")
-        if not abs(f.spring_inclination_deg) < 20.0:
-            raise ParameterError(
-                f"front.spring_inclination_deg = {f.spring_inclination_deg} must lie in (-20, 20)")
+                "front.ball_joint_offset_b_m", b,
+                f"must lie in [0, track/2 - 0.1 m) = [0, {f.track_m / 2 - 0.1:.3f}) m: the ball "
+                "joint sits inside the wheel, outboard of the lower-arm pivots")
         if not f.top_mount_height_m > f.ball_joint_height_m + 0.2:
-            raise ParameterError(
-                "front.top_mount_height_m must be at least 0.2 m above front.ball_joint_height_m")
+            raise ParameterError("front.top_mount_height_m", f.top_mount_height_m,
+                                 "must be at least 0.2 m above front.ball_joint_height_m")
         if not (f.guide_below_top_mount_m + f.guide_length_l_m
                 < f.strut_lower_mount_below_top_m + 0.1):
             raise ParameterError(
-                "front.guide_length_l_m: the piston (guide + l) must stay within 0.1 m of the "
-                "strut's lower mount")
+                "front.guide_length_l_m", f.guide_length_l_m,
+                "is too long: the piston (guide + l) must stay within 0.1 m of the strut's "
+                f"lower mount ({f.strut_lower_mount_below_top_m} m below the top mount)")
         if not f.spring_upper_seat_below_top_m < f.spring_lower_seat_below_top_m:
-            raise ParameterError(
-                "front.spring_upper_seat_below_top_m must be above (smaller than) the lower seat")
+            raise ParameterError("front.spring_upper_seat_below_top_m",
+                                 f.spring_upper_seat_below_top_m,
+                                 "must be above (smaller than) front.spring_lower_seat_below_top_m")
         if not self.rear.spring_upper_height_m > self.rear.spring_lower_height_m:
-            raise ParameterError("rear.spring_upper_height_m must exceed spring_lower_height_m")
+            raise ParameterError("rear.spring_upper_height_m", self.rear.spring_upper_height_m,
+                                 "must exceed rear.spring_lower_height_m")
         if self.parts_mass_kg() >= self.mass.total_mass_kg:
             raise ParameterError(
-                f"mass.total_mass_kg = {self.mass.total_mass_kg} must exceed the suspension "
-                f"parts' mass {self.parts_mass_kg():.1f} kg")
+                "mass.total_mass_kg", self.mass.total_mass_kg,
+                f"must exceed the suspension parts' mass {self.parts_mass_kg():.1f} kg")
         return self
+
 
     def parts_mass_kg(self):
         """Mass of every body except the chassis (sprung body)."""
@@ -235,17 +284,3 @@ class CarParameters:
                         + self.front.top_mount_mass_kg())
         rear_corner = m.rear_wheel_kg + m.rear_carrier_kg
         return 2 * front_corner + 2 * rear_corner + m.rack_kg
-
-
-def _positive(group, group_name, names):
-    for name in names:
-        value = getattr(group, name)
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise ParameterError(f"{group_name}.{name} = {value!r} must be a finite number > 0")
-
-
-def _nonnegative(group, group_name, names):
-    for name in names:
-        value = getattr(group, name)
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-            raise ParameterError(f"{group_name}.{name} = {value!r} must be a finite number >= 0")

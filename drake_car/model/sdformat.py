@@ -30,11 +30,13 @@ from pathlib import Path
 
 import numpy as np
 
+from drake_car.data import resource
 from drake_car.model.geometry import (
     SIDES, front_corner_points, rear_corner_points, rpy_z_to)
 from drake_car.model.parameters import CarParameters
 
-DEFAULT_MODEL_PATH = Path(__file__).resolve().parents[2] / "urdf" / "car.sdf"
+# The committed model file, in the project's urdf/ folder (the package's data).
+DEFAULT_MODEL_PATH = Path(str(resource("urdf").joinpath("car.sdf")))
 
 
 def _v(p):
@@ -119,7 +121,7 @@ def chassis_mass_and_com(params: CarParameters):
 
 def generate_sdformat(params: CarParameters) -> str:
     """Returns the SDFormat text of the car for ``params`` (validated first)."""
-    params.validate()
+    params.check()
     m = params.mass
     radius = params.tyre.unloaded_radius_m
     chassis_mass, chassis_com = chassis_mass_and_com(params)

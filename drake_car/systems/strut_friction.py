@@ -59,14 +59,14 @@ Two numerical schemes (``scheme``):
     context; a stale value from a previous run is overwritten before the first step. Do not
     share the plant of a fast-scheme diagram between simulators running at the same time.
 
-Normal force (eq. 4) comes from the reaction of ``normal_force_joint`` (Drake's
+Normal force (eq. 4) comes from the reaction of the strut's ``normal_force_joint`` (Drake's
 ``reaction_forces`` output: force and moment on the joint's child at its frame Jc, in Jc). The
 components perpendicular to the joint axis are used, the moment moved to the middle of the
-overlap: M_mid = M_Jc + a(q)·(û × F) with a(q) = a0 + a1·q, and the overlap d(q) = d0 + d1·q.
-For rigs, ``constant_normal_force_N`` replaces the reaction.
+overlap: M_mid = M_Jc + a(q)·(û × F) with a(q) = a0 + a1·q, and the overlap d(q) = d0 + d1·q
+(``friction_pairs.Strut``). For rigs, ``constant_normal_force_N`` replaces the reaction.
 """
 
-import dataclasses
+import math
 
 import numpy as np
 from pydrake.common.value import Value
@@ -75,8 +75,10 @@ from pydrake.multibody.tree import PdControllerGains, PrismaticJoint, RevoluteJo
 from pydrake.systems.framework import LeafSystem
 
 from drake_car.law.frd_friction import (
-    STATIC, StrutFrictionParameters, advance_creep, friction_coefficient, mu_kinetic,
-    normal_force, shape_max_slope)
+    STATIC, StrutFrictionParameters, advance_creep, friction_coefficient, friction_force,
+    friction_moment, mu_kinetic, normal_force, shape_max_slope)
+from drake_car.systems.failure import SimulationFailure
+from drake_car.systems.friction_pairs import Strut
 
 SCHEMES = ("fast", "reference")
 DIAGNOSTIC_FIELDS = ("v", "creep", "beta", "mu1", "mu", "phase", "N", "friction")
@@ -84,32 +86,16 @@ DIAGNOSTIC_FIELDS = ("v", "creep", "beta", "mu1", "mu", "phase", "N", "friction"
 _MIN_GAIN = 1e-9
 
 
-@dataclasses.dataclass
-class FrictionPair:
-    kind: str  # "translation" or "rotation"
-    joint: object
-    actuator: object
-
-
-@dataclasses.dataclass
-class Strut:
-    """One cylindrical joint with friction: its pairs (translation first) and where their normal
-    force comes from. ``label`` prefixes the diagnostics' names ("left" -> "left_translation_v").
-
-    Normal force (eq. 4) comes from the reaction of ``normal_force_joint`` (default: the first
-    pair's joint); ``overlap_m`` = (d0, d1) and ``moment_arm_offset_m`` = (a0, a1) give the
-    overlap d(q) = d0 + d1·q and the offset a(q) = a0 + a1·q from the joint frame Jc to the
-    overlap's middle, q that joint's position. ``constant_normal_force_N`` replaces the reaction
-    (rigs); ``initial_normal_force_N`` is used before the first step, when Drake's sampled
-    reaction port still reads zero."""
-
-    pairs: list
-    label: str = ""
-    normal_force_joint: object = None
-    overlap_m: tuple = (0.1, 0.0)
-    moment_arm_offset_m: tuple = (0.0, 0.0)
-    constant_normal_force_N: float | None = None
-    initial_normal_force_N: float | None = None
+def explicit_time_step_limit_s(mass, normal, law):
+    """Largest stable step of the ``reference`` (explicit) scheme on a pair of effective mass
+    (or inertia) ``mass`` under the normal force ``normal`` (for a rotation pair: its moment
+    scale N r), ``law`` a ``FrictionPairLaw``: the β term of eq. (1) is a damper whose largest
+    slope is s'·μs·N/Δv (s' = 1.5 for the cubic STEP), and an explicit damper c on a mass m is
+    stable for dt < 2m/c. Infinite when μs = 0."""
+    slope = shape_max_slope(law.beta_shape) * law.mu_s * normal
+    if slope <= 0:
+        return math.inf
+    return 2.0 * mass * law.dv / slope
 
 
 class _StrutData:
@@ -119,13 +105,17 @@ class _StrutData:
         self.label = strut.label
         self.overlap = tuple(float(x) for x in strut.overlap_m)
         self.offset = tuple(float(x) for x in strut.moment_arm_offset_m)
+        self.rod_radius = float(strut.rod_radius_m)
+        if not (math.isfinite(self.rod_radius) and self.rod_radius > 0):
+            raise ValueError(f"{name}: strut '{strut.label}' rod_radius_m = "
+                             f"{strut.rod_radius_m} must be > 0")
         self.constant = strut.constant_normal_force_N
         self.initial = (None if strut.initial_normal_force_N is None
                         else float(strut.initial_normal_force_N))
         if self.constant is not None:
-            if not self.constant >= 0:
+            if not (math.isfinite(self.constant) and self.constant >= 0):
                 raise ValueError(f"{name}: constant_normal_force_N = {self.constant} must be "
-                                 ">= 0")
+                                 "a finite number >= 0")
             return
         joint = strut.normal_force_joint or strut.pairs[0].joint
         self.joint_index = int(joint.index())
@@ -161,50 +151,34 @@ class StrutFriction(LeafSystem):
     signed μ, phase (0 static, 1 kinetic), normal force N (N), friction from the law at the
     step's start (N or N·m), evaluated from the state at the start of the step.
 
-    ``pairs``: a list of ``Strut``, or (one strut) a list of ``FrictionPair`` with that strut's
-    normal-force arguments given as keywords.
+    ``struts``: a list of ``friction_pairs.Strut``.
     """
 
-    def __init__(self, plant, pairs, params: StrutFrictionParameters, *, scheme="fast",
-                 normal_force_joint=None, overlap_m=(0.1, 0.0), moment_arm_offset_m=(0.0, 0.0),
-                 constant_normal_force_N=None, initial_normal_force_N=None,
+    def __init__(self, plant, struts, params: StrutFrictionParameters, *, scheme="fast",
                  name="strut_friction"):
         super().__init__()
         if scheme not in SCHEMES:
             raise ValueError(f"{name}: scheme {scheme!r} must be one of {SCHEMES}")
-        if not pairs:
-            raise ValueError(f"{name}: no friction pair given")
-        if all(isinstance(p, Strut) for p in pairs):
-            struts = list(pairs)
-            if (normal_force_joint, constant_normal_force_N, initial_normal_force_N) != (
-                    None, None, None) or overlap_m != (0.1, 0.0) \
-                    or moment_arm_offset_m != (0.0, 0.0):
-                raise ValueError(f"{name}: with a list of Strut, give the normal-force "
-                                 "arguments in each Strut")
-        elif all(isinstance(p, FrictionPair) for p in pairs):
-            struts = [Strut(list(pairs), "", normal_force_joint, overlap_m, moment_arm_offset_m,
-                            constant_normal_force_N, initial_normal_force_N)]
-        else:
-            raise TypeError(f"{name}: pairs must be all FrictionPair or all Strut")
+        if not struts or not all(isinstance(s, Strut) for s in struts):
+            raise TypeError(f"{name}: give a non-empty list of friction_pairs.Strut")
         labels = [s.label for s in struts]
         if len(set(labels)) != len(labels):
             raise ValueError(f"{name}: strut labels {labels} must be distinct")
+        params.check()
         self._name = name
         self._params = params
         self._scheme = scheme
         self._struts = [_StrutData(s, name) for s in struts]
         nq = plant.num_positions()
         # Flattened over the struts' pairs, in actuation order.
-        self._pairs, self._laws, self._strut_of, self._scale_of = [], [], [], []
+        self._pairs, self._laws, self._strut_of = [], [], []
         for k, strut in enumerate(struts):
             if not strut.pairs:
                 raise ValueError(f"{name}: strut '{strut.label}' has no friction pair")
             for pair in strut.pairs:
-                if pair.kind == "translation" and not isinstance(pair.joint, PrismaticJoint):
-                    raise TypeError(f"{name}: translation pair needs a PrismaticJoint, "
-                                    f"got {type(pair.joint).__name__} '{pair.joint.name()}'")
-                if pair.kind == "rotation" and not isinstance(pair.joint, RevoluteJoint):
-                    raise TypeError(f"{name}: rotation pair needs a RevoluteJoint, "
+                expected = PrismaticJoint if pair.kind == "translation" else RevoluteJoint
+                if not isinstance(pair.joint, expected):
+                    raise TypeError(f"{name}: {pair.kind} pair needs a {expected.__name__}, "
                                     f"got {type(pair.joint).__name__} '{pair.joint.name()}'")
                 self._pairs.append(pair)
                 self._laws.append(params.translation() if pair.kind == "translation"
@@ -213,10 +187,6 @@ class StrutFriction(LeafSystem):
         self._labels = [struts[k].label for k in self._strut_of]
         self._q_index = [p.joint.position_start() for p in self._pairs]
         self._v_index = [nq + p.joint.velocity_start() for p in self._pairs]
-        # Eq. (6): the rotation pair's moment is μ (N r + M0/μs).
-        preload_moment = (params.preload_moment_Nm / params.mu_s
-                          if params.preload_moment_Nm > 0 else 0.0)
-        self._rotation_terms = (params.rod_radius_m, preload_moment)
         # Per pair, constants of the fast scheme's gains (per unit of the pair's N-scale).
         self._kd_unit = [shape_max_slope(law.beta_shape) / law.dv for law in self._laws]
         self._kp_unit = [shape_max_slope(law.creep_shape) * law.mu_s / law.dmax
@@ -230,18 +200,21 @@ class StrutFriction(LeafSystem):
         if any(s.constant is None for s in self._struts):
             self._reaction_port = self.DeclareAbstractInputPort(
                 "reaction_forces", Value[list[SpatialForce]]())
-        # Discrete state, each group computed by the one update per step:
-        #   memory: per pair creep, phase, joint position at the last update;
-        #   actuation: per pair the feed-forward (fast) or the whole friction (reference);
-        #   desired (fast): [q_d..., v_d...];  gains (fast): per pair Kp, Kd, effort limit;
-        #   diagnostics: per pair DIAGNOSTIC_FIELDS.
-        self._memory = self.DeclareDiscreteState(3 * n)
+        # Discrete state groups, each computed by the one update per step (per pair):
+        # the creep memory (creep, phase, the joint position at the last update); the
+        # feed-forward (fast) or whole friction (reference) actuation; the fast scheme's PD
+        # targets [q_d..., v_d...] and gains; the diagnostics (DIAGNOSTIC_FIELDS per pair).
+        self._creep = self.DeclareDiscreteState(n)
+        self._phase = self.DeclareDiscreteState(n)
+        self._last_q = self.DeclareDiscreteState(n)
         self._actuation = self.DeclareDiscreteState(n)
         self._diagnostics = self.DeclareDiscreteState(len(DIAGNOSTIC_FIELDS) * n)
-        self._desired = self._gains_state = None
+        self._desired = self._kp = self._kd = self._effort = None
         if scheme == "fast":
             self._desired = self.DeclareDiscreteState(2 * n)
-            self._gains_state = self.DeclareDiscreteState(3 * n)
+            self._kp = self.DeclareDiscreteState(n)
+            self._kd = self.DeclareDiscreteState(n)
+            self._effort = self.DeclareDiscreteState(n)
         self.DeclareInitializationDiscreteUpdateEvent(self._initialize)
         self.DeclarePeriodicDiscreteUpdateEvent(self._dt, 0.0, self._update)
         self._actuation_port = self.DeclareStateOutputPort("friction_actuation",
@@ -270,9 +243,6 @@ class StrutFriction(LeafSystem):
     def num_pairs(self):
         return len(self._pairs)
 
-    def num_pd_pairs(self):
-        return len(self._pairs) if self._scheme == "fast" else 0
-
     def pair_kinds(self):
         return [p.kind for p in self._pairs]
 
@@ -293,7 +263,7 @@ class StrutFriction(LeafSystem):
         q = x[strut.q_index]
         overlap = strut.overlap[0] + strut.overlap[1] * q
         if not overlap > 0:
-            raise RuntimeError(
+            raise SimulationFailure(
                 f"{self._name}: overlap d = {overlap:.4g} m <= 0 at t = {t:.4f} s"
                 f"{' on strut ' + strut.label if strut.label else ''}"
                 " (the rod has left the cylinder's guide)")
@@ -314,118 +284,78 @@ class StrutFriction(LeafSystem):
     def _initialize(self, context, discrete_state):
         # Memory: no creep, static, at the initial positions; then the step's values from it.
         x = self._state_port.Eval(context).tolist()
-        memory = []
-        for q_index in self._q_index:
-            memory += [0.0, STATIC, x[q_index]]
-        self._compute(context, discrete_state, x, memory, context.get_time(), initial=True)
+        n = len(self._pairs)
+        self._compute(context, discrete_state, x, [0.0] * n, [STATIC] * n,
+                      [x[i] for i in self._q_index], context.get_time(), initial=True)
 
     def _update(self, context, discrete_state):
         # The plant has stepped: x is x_{k+1}, at time t + dt.
+        value = context.get_discrete_state
         self._compute(context, discrete_state, self._state_port.Eval(context).tolist(),
-                      context.get_discrete_state(self._memory).get_value().tolist(),
+                      value(self._creep).get_value().tolist(),
+                      value(self._phase).get_value().tolist(),
+                      value(self._last_q).get_value().tolist(),
                       context.get_time() + self._dt, initial=False)
 
-    def _compute(self, context, discrete_state, x, memory, t, initial):
+    def _compute(self, context, discrete_state, x, creeps, phases, last_q, t, initial):
         """Advances the creep memory to the plant state ``x`` and computes the friction, the
         fast scheme's PD targets and gains, and the diagnostics, into ``discrete_state``."""
         reactions = (self._reaction_port.Eval(context) if self._reaction_port is not None
                      else None)
         normals = [self._normal_force(x, s, reactions, t, initial) for s in self._struts]
-        radius, preload_moment = self._rotation_terms
+        params = self._params
         fast = self._scheme == "fast"
-        new_memory, actuation, diagnostics = [], [], []
-        desired_q, desired_v, gains = [], [], []
+        n = len(self._pairs)
+        new_creep, new_phase, new_q = [0.0] * n, [0.0] * n, [0.0] * n
+        actuation, diagnostics = [0.0] * n, []
+        desired_q, desired_v = [0.0] * n, [0.0] * n
+        kp, kd, effort = [_MIN_GAIN] * n, [_MIN_GAIN] * n, [_MIN_GAIN] * n
         for i, (pair, law) in enumerate(zip(self._pairs, self._laws)):
+            strut = self._struts[self._strut_of[i]]
             normal = normals[self._strut_of[i]]
             q = x[self._q_index[i]]
             v = x[self._v_index[i]]
-            creep, phase = advance_creep(memory[3 * i], memory[3 * i + 1], v,
-                                         q - memory[3 * i + 2], law)
-            new_memory += [creep, phase, q]
+            creep, phase = advance_creep(creeps[i], phases[i], v, q - last_q[i], law)
+            new_creep[i], new_phase[i], new_q[i] = creep, phase, q
             mu, beta, mu1, _ = friction_coefficient(v, creep, law)
-            # eq. (5), N includes F0/μs (eq. 4); eq. (6) for the rotation pair
-            scale = normal if pair.kind == "translation" else normal * radius + preload_moment
+            # What μ multiplies: N for the translation pair (eq. 5, N with F0/μs of eq. 4),
+            # N r + M0/μs for the rotation pair (eq. 6).
+            scale = (friction_force(1.0, normal) if pair.kind == "translation" else
+                     friction_moment(1.0, normal, strut.rod_radius, params.preload_moment_Nm,
+                                     params.mu_s))
             force = mu * scale
             diagnostics += [v, creep, beta, mu1, mu, phase, normal, force]
             if not fast:
-                actuation.append(force)
+                actuation[i] = force
                 continue
             # |∂F/∂v| ≤ s'_β (μs + μ1) N / Δv in the static phase (v opposing the creep).
-            kd = max(self._kd_unit[i] * (law.mu_s + mu1) * scale, _MIN_GAIN)
+            kd[i] = max(self._kd_unit[i] * (law.mu_s + mu1) * scale, _MIN_GAIN)
+            desired_q[i] = q
             if phase == STATIC:
-                actuation.append(force)
-                desired_q.append(q)
-                desired_v.append(v)
-                gains += [max(self._kp_unit[i] * scale, _MIN_GAIN), kd,
-                          max(law.mu_s * scale, _MIN_GAIN)]
+                actuation[i] = force
+                desired_v[i] = v
+                kp[i] = max(self._kp_unit[i] * scale, _MIN_GAIN)
+                effort[i] = max(law.mu_s * scale, _MIN_GAIN)
             else:
-                actuation.append(0.0)
-                desired_q.append(q)
-                desired_v.append(0.0)
-                gains += [_MIN_GAIN, kd, max(mu_kinetic(v, law) * scale, _MIN_GAIN)]
-        discrete_state.set_value(self._memory, new_memory)
+                effort[i] = max(mu_kinetic(v, law) * scale, _MIN_GAIN)
+        discrete_state.set_value(self._creep, new_creep)
+        discrete_state.set_value(self._phase, new_phase)
+        discrete_state.set_value(self._last_q, new_q)
         discrete_state.set_value(self._actuation, actuation)
         discrete_state.set_value(self._diagnostics, diagnostics)
         if fast:
             discrete_state.set_value(self._desired, desired_q + desired_v)
-            discrete_state.set_value(self._gains_state, gains)
+            discrete_state.set_value(self._kp, kp)
+            discrete_state.set_value(self._kd, kd)
+            discrete_state.set_value(self._effort, effort)
 
     def _write_gains(self, context):
-        values = context.get_discrete_state(self._gains_state).get_value().tolist()
+        value = context.get_discrete_state
+        kp = value(self._kp).get_value().tolist()
+        kd = value(self._kd).get_value().tolist()
+        effort = value(self._effort).get_value().tolist()
         gains = self._gains
         for i, pair in enumerate(self._pairs):
-            gains.p, gains.d = values[3 * i], values[3 * i + 1]
+            gains.p, gains.d = kp[i], kd[i]
             pair.actuator.set_controller_gains(gains)
-            pair.actuator.set_effort_limit(values[3 * i + 2])
-
-
-@dataclasses.dataclass
-class StrutFrictionSetup:
-    """What a scene asks for on each front strut: law parameters, scheme, which pairs."""
-
-    params: StrutFrictionParameters = dataclasses.field(default_factory=StrutFrictionParameters)
-    scheme: str = "fast"
-    rotation: bool = True
-
-    # The explicit reference scheme is stable on the car only below ~1e-5 s (rod mass ~30 kg
-    # through the strut, N up to ~5 kN): refuse steps far above that instead of chattering.
-    reference_max_time_step_s: float = 2e-5
-
-    def __post_init__(self):
-        if self.scheme not in SCHEMES:
-            raise ValueError(f"friction scheme {self.scheme!r} must be one of {SCHEMES}")
-
-    def check_time_step(self, time_step_s):
-        if self.scheme == "reference" and time_step_s > self.reference_max_time_step_s:
-            raise ValueError(
-                f"friction scheme 'reference' applies the law explicitly and is unstable on the "
-                f"car at time_step_s = {time_step_s:g} s; use <= "
-                f"{self.reference_max_time_step_s:g} s or the 'fast' scheme")
-
-    def declare(self, plant, joints, side):
-        """Adds the pairs' actuators (before Finalize). Returns the pairs."""
-        return declare_pairs(plant, joints[0], joints[1] if self.rotation else None,
-                             self.scheme, prefix=f"strut_friction_{side}")
-
-    def make_system(self, plant, declarations, *, guide_length_l_m):
-        """One StrutFriction for all struts; ``declarations``: side -> pairs (``declare``)."""
-        # The prismatic joint's child is the cylinder, Jc at the guide; q is the extension s.
-        # Overlap d = l - s; the overlap's middle lies d/2 beyond Jc along the joint axis.
-        struts = [Strut(pairs, side, overlap_m=(guide_length_l_m, -1.0),
-                        moment_arm_offset_m=(-0.5 * guide_length_l_m, 0.5))
-                  for side, pairs in declarations.items()]
-        return StrutFriction(plant, struts, self.params, scheme=self.scheme,
-                             name="strut_friction")
-
-def declare_pairs(plant, prismatic=None, revolute=None, scheme="fast", prefix="friction"):
-    """Adds one actuator per pair to ``plant`` (before Finalize); fast-scheme actuators get PD
-    gains (overwritten every step by the system). Returns the list of FrictionPair."""
-    pairs = []
-    for kind, joint in (("translation", prismatic), ("rotation", revolute)):
-        if joint is None:
-            continue
-        actuator = plant.AddJointActuator(f"{prefix}_{kind}", joint)
-        if scheme == "fast":
-            actuator.set_controller_gains(PdControllerGains(p=1.0, d=1.0))
-        pairs.append(FrictionPair(kind, joint, actuator))
-    return pairs
+            pair.actuator.set_effort_limit(effort[i])

@@ -1,6 +1,8 @@
 """Tyre forces on the four wheels as a LeafSystem: radial stiffness and damping at one contact
 point per wheel, plus (optionally) the Magic Formula's horizontal forces and moments."""
 
+import typing
+
 from pydrake.common.value import AbstractValue, Value
 from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialForce, SpatialVelocity
@@ -8,14 +10,39 @@ from pydrake.multibody.plant import ExternallyAppliedSpatialForce
 from pydrake.systems.framework import BasicVector, LeafSystem, ValueProducer
 
 from drake_car.law.magic_formula import linear_tyre, magic_formula
-from drake_car.law.road import flat
+from drake_car.law.road import Flat
 from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
+from drake_car.systems.failure import SimulationFailure
 from drake_car.law.tyre_slip import (
     SlipOptions, contact_kinematics, low_speed_weight, relax, steady_slips, transient_slips)
 
 WHEELS = ("fl", "fr", "rl", "rr")
+# A tyre's Magic Formula holds up to a few times its nominal load; far beyond it the state has
+# diverged (the formula's exponentials overflow near 3000 FNOMIN).
+MAX_LOAD_RATIO = 50.0
 DIAGNOSTIC_FIELDS = ("Fx_N", "Fy_N", "Fz_N", "Mz_Nm", "kappa", "alpha_rad", "gamma_rad",
-                     "vx_mps")
+                     "vx_mps", "deflection_m")
+
+
+class _Contact(typing.NamedTuple):
+    """One wheel's contact kinematics (cached per step)."""
+
+    body_index: int
+    p_body: list  # contact point in the wheel's frame
+    point: tuple  # contact point in world
+    deflection: float
+    fz: float
+    kinematics: object  # law.tyre_slip.ContactKinematics, or None (vertical only)
+
+
+class _Solution(typing.NamedTuple):
+    """One wheel's forces (cached per step)."""
+
+    p_body: list
+    deflection: float
+    force: list  # in world
+    torque: list
+    diagnostics: list  # DIAGNOSTIC_FIELDS
 
 
 class TyreSystem(LeafSystem):
@@ -50,17 +77,20 @@ class TyreSystem(LeafSystem):
     stiff at low speed and meant for runs that start rolling.
     """
 
-    def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=flat, *,
-                 magic_formula_tyre=None, slip: SlipOptions = SlipOptions(), combined=True,
+    def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=None, *,
+                 magic_formula_tyre=None, slip: SlipOptions | None = None, combined=True,
                  linear=False, time_step_s=None, mirror_right=True, mirror_left=("fl", "rl")):
         super().__init__()
         missing = [w for w in WHEELS if w not in wheel_bodies]
         if missing:
             raise ValueError(f"TyreSystem: wheel bodies missing for {missing}")
         self._tyre = tyre
-        self._road = road_height
+        self._road = Flat() if road_height is None else road_height
+        self._flat = isinstance(self._road, Flat)
         self._mf = magic_formula_tyre
-        self._slip = slip
+        self._max_load = (MAX_LOAD_RATIO * magic_formula_tyre.FNOMIN
+                          if magic_formula_tyre is not None else float("inf"))
+        self._slip = slip = slip or SlipOptions()
         self._combined = combined
         self._linear = linear
         if linear and magic_formula_tyre is None:
@@ -114,7 +144,7 @@ class TyreSystem(LeafSystem):
 
     def _deflection_rate(self, point, v):
         """dδ/dt = (rate at which the road rises under the moving wheel) - v_z."""
-        if self._road is flat:
+        if self._flat:
             return -float(v[2])
         eps = 1e-3
         x, y = point[0], point[1]
@@ -176,7 +206,7 @@ class TyreSystem(LeafSystem):
             rx, ry, rz = point[0] - px, point[1] - py, point[2] - pz
             p_body = [r00 * rx + r10 * ry + r20 * rz, r01 * rx + r11 * ry + r21 * rz,
                       r02 * rx + r12 * ry + r22 * rz]
-            result.append((index, p_body, point, deflection, fz, kin))
+            result.append(_Contact(index, p_body, point, deflection, fz, kin))
         abstract_value.set_value(tuple(result))
 
     def _calc_solution(self, context, abstract_value):
@@ -187,8 +217,13 @@ class TyreSystem(LeafSystem):
                 self._kinematics.Eval(context)):
             force = [0.0, 0.0, fz]
             torque = [0.0, 0.0, 0.0]
-            diagnostics = [0.0, 0.0, fz, 0.0, 0.0, 0.0, 0.0, 0.0]
+            diagnostics = [0.0, 0.0, fz, 0.0, 0.0, 0.0, 0.0, 0.0, deflection]
             if kin is not None:
+                if fz > self._max_load:
+                    raise SimulationFailure(
+                        f"diverged at t = {context.get_time():.6f} s: tyre {WHEELS[k]} vertical "
+                        f"load {fz:.4g} N beyond {MAX_LOAD_RATIO:g} × FNOMIN, where the Magic "
+                        "Formula ends (a smaller plant.time_step or gentler inputs may help)")
                 if self._relaxed:
                     kappa, alpha = transient_slips(deflections[2 * k], deflections[2 * k + 1],
                                                    self._slip)
@@ -212,16 +247,16 @@ class TyreSystem(LeafSystem):
                 c, s = kin.e_x[0], kin.e_x[1]
                 force = [fx * c - fy * s, fx * s + fy * c, fz]
                 torque = [-f.my * s, f.my * c, f.mz]
-                diagnostics = [fx, fy, fz, f.mz, kappa, alpha, kin.gamma, kin.v_cx]
-            result.append((index, p_body, point, deflection, force, torque, diagnostics, kin))
+                diagnostics = [fx, fy, fz, f.mz, kappa, alpha, kin.gamma, kin.v_cx, deflection]
+            result.append(_Solution(p_body, deflection, force, torque, diagnostics))
         abstract_value.set_value(tuple(result))
 
     def _update(self, context, discrete_state):
         values = context.get_discrete_state(self._deflections).get_value().tolist()
         options = self._slip
-        for k, entry in enumerate(self._kinematics.Eval(context)):
-            kin = entry[5]
-            if entry[4] <= 0.0:  # wheel off the road: the contact patch relaxes to zero
+        for k, contact in enumerate(self._kinematics.Eval(context)):
+            kin = contact.kinematics
+            if contact.fz <= 0.0:  # wheel off the road: the contact patch relaxes to zero
                 values[2 * k] = values[2 * k + 1] = 0.0
                 continue
             values[2 * k] = relax(values[2 * k], -kin.v_sx, kin.v_cx,
@@ -232,18 +267,17 @@ class TyreSystem(LeafSystem):
 
     def _calc_forces(self, context, output):
         forces = self._applied
-        for applied, (_, p_body, _, _, force, torque, _, _) in zip(
-                forces, self._solution.Eval(context)):
-            applied.p_BoBq_B = p_body
-            applied.F_Bq_W = SpatialForce(torque, force)
+        for applied, solution in zip(forces, self._solution.Eval(context)):
+            applied.p_BoBq_B = solution.p_body
+            applied.F_Bq_W = SpatialForce(solution.torque, solution.force)
         output.set_value(forces)  # copied into the port's value
 
     def _calc_loads(self, context, output):
         solution = self._solution.Eval(context)
-        output.SetFromVector([s[4][2] for s in solution] + [s[3] for s in solution])
+        output.SetFromVector([s.force[2] for s in solution] + [s.deflection for s in solution])
 
     def _calc_diagnostics(self, context, output):
         values = []
         for s in self._solution.Eval(context):
-            values += s[6]
+            values += s.diagnostics
         output.SetFromVector(values)

@@ -16,10 +16,14 @@ from pydrake.multibody.tree import (
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
 
+from drake_car.law.checks import ParameterError, finite, nonnegative, positive
 from drake_car.law.frd_friction import StrutFrictionParameters
-from drake_car.systems.strut_friction import StrutFriction, declare_pairs
+from drake_car.sim.monitor import Monitor
+from drake_car.systems.friction_pairs import Strut, declare_pairs
+from drake_car.systems.strut_friction import StrutFriction, explicit_time_step_limit_s
 
 GRAVITY_MPS2 = 9.81
+MAX_NORMAL_FORCE_N = 1e6
 
 
 @dataclasses.dataclass
@@ -46,17 +50,40 @@ class RigOptions:
     normal_from_reaction: bool = False
     initial_normal_force_N: float | None = None
 
-    def validate(self):
-        checks = [("mass_kg", self.mass_kg > 0), ("normal_force_N", self.normal_force_N >= 0),
-                  ("spring_Npm", self.spring_Npm >= 0), ("time_step_s", self.time_step_s > 0),
-                  ("force_freq_hz", self.force_freq_hz >= 0), ("force_off_s", self.force_off_s >= 0),
-                  ("incline_deg", -90 < self.incline_deg < 90)]
-        for name, ok in checks:
-            value = getattr(self, name)
-            if not ok or (isinstance(value, float) and math.isnan(value)):
-                raise ValueError(f"rig option {name} = {value} is out of range")
+    def check(self, params: StrutFrictionParameters | None = None):
+        """Raises ParameterError naming an option out of range; with ``params``, also a step
+        above the explicit (reference) scheme's stability limit on this rig."""
+        positive(self, "mass_kg", "time_step_s", "rod_radius_m")
+        nonnegative(self, "normal_force_N", "spring_Npm", "force_freq_hz")
+        finite(self, "force_N", "force_rate_Nps", "force_amp_N", "belt_speed_mps", "x0_m",
+               "v0_mps", "incline_deg")
+        if not (self.force_off_s >= 0):  # inf allowed: never switched off
+            raise ParameterError("force_off_s", self.force_off_s, "must be >= 0")
+        if not -90 < self.incline_deg < 90:
+            raise ParameterError("incline_deg", self.incline_deg, "must lie in (-90, 90)")
+        if self.normal_force_N > MAX_NORMAL_FORCE_N:
+            raise ParameterError("normal_force_N", self.normal_force_N,
+                                 f"must be <= {MAX_NORMAL_FORCE_N:g} N (a strut's normal force "
+                                 "is a few kN)")
+        if self.time_step_s > 0.01:
+            raise ParameterError("time_step_s", self.time_step_s, "must be <= 0.01 s")
         if self.rotational and self.belt_speed_mps != 0:
-            raise ValueError("rig option belt_speed_mps must be 0 for a rotational rig")
+            raise ParameterError("belt_speed_mps", self.belt_speed_mps,
+                                 "must be 0 for a rotational rig")
+        if params is not None and self.friction and self.scheme == "reference":
+            if self.rotational:  # the block's inertia: 0.1 m radius of gyration
+                limit = explicit_time_step_limit_s(0.01 * self.mass_kg,
+                                                   self.normal_force_N * self.rod_radius_m,
+                                                   params.rotation())
+            else:
+                limit = explicit_time_step_limit_s(self.mass_kg, self.normal_force_N,
+                                                   params.translation())
+            if self.time_step_s > limit:
+                raise ParameterError(
+                    "time_step_s", self.time_step_s,
+                    f"is above the explicit (reference) scheme's stability limit {limit:.3g} s "
+                    f"on this rig (2 m Δv / (1.5 μs N), m = {self.mass_kg:g} kg, N = "
+                    f"{self.normal_force_N:g} N); use a smaller step or the fast scheme")
         return self
 
     def external_force(self, t):
@@ -119,8 +146,8 @@ class Rig:
 
 
 def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None) -> Rig:
-    options.validate()
     params = params or StrutFrictionParameters()
+    options.check(params)
     builder = DiagramBuilder()
     plant, _ = AddMultibodyPlant(
         MultibodyPlantConfig(time_step=options.time_step_s, discrete_contact_approximation="sap"),
@@ -159,11 +186,12 @@ def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None
 
     friction = None
     if options.friction:
-        friction = builder.AddSystem(StrutFriction(
-            plant, pairs, params, scheme=options.scheme,
-            constant_normal_force_N=(None if options.normal_from_reaction
-                                     else options.normal_force_N),
-            initial_normal_force_N=options.initial_normal_force_N, name="rig_friction"))
+        strut = Strut(pairs, rod_radius_m=options.rod_radius_m,
+                      constant_normal_force_N=(None if options.normal_from_reaction
+                                               else options.normal_force_N),
+                      initial_normal_force_N=options.initial_normal_force_N)
+        friction = builder.AddSystem(StrutFriction(plant, [strut], params,
+                                                   scheme=options.scheme, name="rig_friction"))
         friction.set_name("rig_friction")
         friction.connect(builder, plant)
         builder.Connect(friction.actuation_output_port(),
@@ -206,12 +234,13 @@ def simulate_rig(options: RigOptions, params: StrutFrictionParameters | None = N
     PD included); x_m the block's position from the spring anchor; v_mps relative to the belt."""
     from pydrake.systems.analysis import Simulator
 
-    if not duration_s > 0:
-        raise ValueError(f"duration_s = {duration_s} must be > 0")
+    if not (0 < duration_s <= 600):
+        raise ParameterError("duration_s", duration_s, "must lie in (0, 600] s")
     rig = build_rig(options, params)
     simulator = Simulator(rig.diagram)
     root = simulator.get_mutable_context()
     rig.set_initial_state(root)
+    monitor = Monitor(rig.plant, rig.diagram)
     simulator.Initialize()
     plant = rig.plant
     pc = plant.GetMyContextFromRoot(root)
@@ -225,6 +254,7 @@ def simulate_rig(options: RigOptions, params: StrutFrictionParameters | None = N
     qbelt = None if rig.belt_joint is None else rig.belt_joint.position_start()
     for k in range(steps + 1):
         simulator.AdvanceTo(k * period)
+        monitor.check(root)
         q = plant.GetPositions(pc)
         v = plant.GetVelocities(pc)
         out["t"][k] = root.get_time()

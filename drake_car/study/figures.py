@@ -6,7 +6,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from drake_car.study import FRICTION_SETS, places, run_name  # noqa: E402
+from drake_car.study.paper import places, run_of  # noqa: E402
 
 CURVE_STYLE = {1: dict(color="tab:blue"), 2: dict(color="tab:orange"),
                3: dict(color="tab:green")}
@@ -21,10 +21,10 @@ def _phases(ax, timeline):
         ax.text(0.5 * (a + b), top, name, ha="center", va="bottom", fontsize=9)
 
 
-def fig13(runs, timeline, path):
+def fig13(study, timeline, path):
     fig, ax = plt.subplots(figsize=(8, 3.8))
     for case, style in (("a", "-"), ("b", "--")):
-        h = runs[run_name(case, 1)]
+        h = run_of(study, case, 1).columns
         ax.plot(h["t"], 1e3 * h["rack_m"], style, label=f"case {case}")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("rack displacement [mm] (left +)")
@@ -37,11 +37,12 @@ def fig13(runs, timeline, path):
     plt.close(fig)
 
 
-def fig_dd(runs, timeline, case, side, path, title):
+def fig_dd(study, timeline, case, side, path, title):
     fig, ax = plt.subplots(figsize=(9, 4.2))
-    for number, (mu_s, mu_d) in FRICTION_SETS.items():
-        h = runs[run_name(case, number)]
-        ax.plot(h["t"], 1e3 * h[f"dd_{side}_m"], label=f"{number}: μs={mu_s}, μd={mu_d}",
+    for number in (1, 2, 3):
+        run = run_of(study, case, number)
+        h = run.columns
+        ax.plot(h["t"], 1e3 * h[f"dd_{side}_m"], label=run.friction.label,
                 **CURVE_STYLE[number])
         ia, ib = places(h, timeline)
         for index, label in ((ia, "a"), (ib, "b")):
@@ -61,25 +62,28 @@ def fig_dd(runs, timeline, case, side, path, title):
     plt.close(fig)
 
 
-def fig16(runs, timeline, path, side="left"):
-    h = runs[run_name("a", 2)]
+def fig16(study, timeline, path, side="left"):
+    run = run_of(study, "a", 2)
+    h = run.columns
     fig, axes = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
     axes[0].plot(h["t"], h[f"beta_{side}"])
     axes[0].set_ylabel("β")
     axes[1].plot(h["t"], h[f"mu1_{side}"])
-    axes[1].axhline(FRICTION_SETS[2][0], color="k", lw=0.6, ls=":")
+    axes[1].axhline(run.friction.mu_s, color="k", lw=0.6, ls=":")
     axes[1].set_ylabel("μ1")
     axes[1].set_xlabel("t [s]")
     for ax in axes:
         ax.grid(alpha=0.3)
     _phases(axes[0], timeline)
-    axes[0].set_title(f"Fig. 16: β and μ1, case a, μs = 0.2, μd = 0.15, {side} strut", pad=16)
+    axes[0].set_title(f"Fig. 16: β and μ1, case a, set {run.friction.label}, {side} strut",
+                      pad=16)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def wheel_loads(runs, timeline, path):
+def wheel_loads(study, timeline, path):
+    runs = {name: r.columns for name, r in study.items()}
     names = sorted(runs)
     wheels = ("fl", "fr", "rl", "rr")
     fig, ax = plt.subplots(figsize=(10, 4))
@@ -104,7 +108,8 @@ def wheel_loads(runs, timeline, path):
     plt.close(fig)
 
 
-def all_figures(runs, timeline, out):
+def all_figures(study, timeline, out):
+    runs = study
     fig13(runs, timeline, out / "fig13.png")
     fig_dd(runs, timeline, "a", "left", out / "fig14_a.png",
            "Fig. 14a: lane change starting left, left strut")

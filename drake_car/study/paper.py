@@ -1,5 +1,7 @@
 """The paper's study: two lane changes (a: left turn first, b: right turn first) × three friction
-sets, and the verdict on each of the paper's claims (DESIGN.md §5).
+sets, and the verdict on each of the paper's claims (its section 4), as a pure layer: runs (each
+a history and the scene that made it) in; study columns, claims and their numbers out. Every
+label, μs and μd comes from the scene that ran.
 
 The claim logic works on histories (dicts of arrays) only, so it can be tested on synthetic
 histories whose right verdict is known.
@@ -7,19 +9,12 @@ histories whose right verdict is known.
 
 import dataclasses
 import math
-import time
 
 import numpy as np
 
-from drake_car.assembly import DEFAULT_TIME_STEP_S, TyreSetup
-from drake_car.drive import lane_change_metrics, run_drive
-from drake_car.manoeuvre import Timeline
 from drake_car.model.geometry import SIDES
-from drake_car.scene import SCENES_DIR, load_scene, resolve
-from drake_car.settle import run_settle
+from drake_car.scene.manoeuvres import LaneChange, Timeline
 
-# Paper section 4: (μs, μd); set 1 is the lubricated strut with 1250 N s/m of damping.
-FRICTION_SETS = {1: (0.0, 0.0), 2: (0.2, 0.15), 3: (0.4, 0.3)}
 CASES = ("a", "b")
 RUN_COLUMNS = (
     "t", "phase", "rack_m", "x_m", "y_m", "yaw_rad", "speed_mps", "dd_left_m", "dd_right_m",
@@ -30,109 +25,114 @@ RUN_COLUMNS = (
 # project's accuracy target).
 DISPLACEMENT_THRESHOLD_M = 1e-4
 SYMMETRY_TOLERANCE = 0.01  # of the largest |Δd|: "almost identical" curves
-
-
-def run_name(case, number):
-    return f"{case}_{number}"
-
-
-PAPER_STUDY_SCENES = SCENES_DIR / "paper_study.yaml"
-
-
-@dataclasses.dataclass
-class RunConfig:
-    """One run of the study: the car and its friction come from the run's scene in
-    scenes/paper_study.yaml (with ``scene_text`` on top); the numerical settings here (step,
-    scheme, tyre fidelity, timeline) override the scene's for sweeps."""
-
-    case: str
-    friction_set: int
-    time_step_s: float = DEFAULT_TIME_STEP_S
-    timeline: Timeline = dataclasses.field(default_factory=Timeline)
-    scheme: str = "fast"
-    record_period_s: float = 0.01
-    tyres: TyreSetup = dataclasses.field(default_factory=TyreSetup)
-    scene_text: str = ""
-    scene_file: str = str(PAPER_STUDY_SCENES)
-    sap_pacer: bool = True
-
-    @property
-    def name(self):
-        return run_name(self.case, self.friction_set)
-
-    def scene(self):
-        return load_scene(self.scene_file, child=self.name, scene_text=self.scene_text)
-
-    def car(self):
-        resolved = resolve(self.scene())
-        friction = resolved.friction
-        if friction is not None:
-            friction = dataclasses.replace(friction, scheme=self.scheme)
-        return resolved.params, friction
-
-
-# What a study run logs (all of it: the figures and the claims use every group).
+# What a study run must log.
 STUDY_CHANNELS = ("chassis", "steering", "struts", "tyres", "friction")
 # Run columns from the friction's logged diagnostics (translation pair): name -> field.
 FRICTION_CHANNELS = {"creep_{side}_m": "creep", "beta_{side}": "beta", "mu1_{side}": "mu1",
                      "N_{side}_N": "N", "Ffric_{side}_N": "friction"}
 
 
+class StudyError(ValueError):
+    """The runs given are not the paper's study (cases × friction sets); says what is wrong."""
+
+
 @dataclasses.dataclass
-class StaticEquilibrium:
-    """The car at rest on its tyres with lubricated struts: where every run starts (as a
-    multibody code's static analysis precedes its dynamic run) and what Δd is measured from
-    (the paper's "increments from static equilibrium")."""
+class FrictionSet:
+    """A friction set of the study, as its scenes have it: (μs, μd) of the dry struts, or the
+    lubricated strut's damping (μs = μd = 0)."""
 
-    positions: np.ndarray  # the car's generalized positions
-    overlap_m: dict  # d per side
-    corner_loads_N: dict
-    max_abs_velocity: float  # of the car's generalized velocities over the last 0.5 s
-    time_step_s: float
-    duration_s: float
+    number: int
+    mu_s: float
+    mu_d: float
+    damping_Nspm: float
 
-
-_EQUILIBRIA = {}
-EQUILIBRIUM_SETTLE_S = 6.0
-
-
-def static_equilibrium(params, time_step_s=DEFAULT_TIME_STEP_S,
-                       duration_s=EQUILIBRIUM_SETTLE_S) -> StaticEquilibrium:
-    """Settles the lubricated car (friction off; the strut damping does not change the
-    equilibrium and is set to the lubricated 1250 N s/m so that it settles fast). Cached."""
-    params = dataclasses.replace(params, front=dataclasses.replace(
-        params.front, strut_damping_Nspm=1250.0))
-    key = (repr(params), time_step_s, duration_s)
-    if key not in _EQUILIBRIA:
-        settled = run_settle(params, duration_s=duration_s, time_step_s=time_step_s)
-        _EQUILIBRIA[key] = StaticEquilibrium(
-            settled.positions, settled.strut_overlap_m, settled.corner_loads_N,
-            settled.max_abs_generalized_velocity_last_half_s, time_step_s, duration_s)
-    return _EQUILIBRIA[key]
+    @property
+    def label(self):
+        if self.mu_s == 0:
+            return f"{self.number}: μs = 0 (lubricated, {self.damping_Nspm:g} N s/m)"
+        return f"{self.number}: μs = {self.mu_s:g}, μd = {self.mu_d:g}"
 
 
-def run_one(config: RunConfig, start: StaticEquilibrium | None = None, meshcat=None):
-    """Simulates one run from ``start`` (default: the static equilibrium of the run's car at
-    the default step); returns (columns RUN_COLUMNS, info, the DriveRun). Δd is measured from
-    the start's overlaps."""
-    params, friction = config.car()
-    if start is None:
-        start = static_equilibrium(params)
-    d_static = start.overlap_m
-    began = time.perf_counter()
-    run = run_drive(config.case, params, friction=friction, tyres=config.tyres,
-                    timeline=config.timeline, time_step_s=config.time_step_s,
-                    record_period_s=config.record_period_s, meshcat=meshcat,
-                    channels=STUDY_CHANNELS, sap_pacer=config.sap_pacer,
-                    initial_positions=start.positions)
-    wall = time.perf_counter() - began
-    h = run.history
+@dataclasses.dataclass
+class StudyRun:
+    name: str
+    case: str  # "a" or "b"
+    friction: FrictionSet
+    columns: dict  # RUN_COLUMNS
+
+
+def friction_of(scene):
+    """(μs, μd, strut damping) of a scene's front struts."""
+    damping = scene.car.front.strut_damping_Nspm
+    if scene.friction is None:
+        return 0.0, 0.0, damping
+    return scene.friction.law.mu_s, scene.friction.law.mu_d, damping
+
+
+def check_study_scenes(scenes: dict):
+    """Refuses (StudyError) scenes that are not the paper's study: lane changes from static
+    equilibrium, cases a and b × three friction sets, one timeline. Returns name -> (case,
+    FrictionSet). Run it before simulating: it needs only the scenes."""
+    sets = sorted({friction_of(s) for s in scenes.values()})
+    numbered = {key: FrictionSet(i + 1, *key) for i, key in enumerate(sets)}
+    out, grid = {}, set()
+    for name, scene in scenes.items():
+        if not isinstance(scene.manoeuvre, LaneChange):
+            raise StudyError(f"run {name}: the study needs lane changes, not "
+                             f"{type(scene.manoeuvre).__name__}")
+        if scene.simulator.start != "static_equilibrium":
+            raise StudyError(f"run {name}: Δd is measured from static equilibrium; the run "
+                             "must start there (simulator.start)")
+        missing = [g for g in STUDY_CHANNELS if scene.logging.channels is not None
+                   and g not in scene.logging.channels and (g != "friction" or scene.friction)]
+        if missing:
+            raise StudyError(f"run {name}: the study needs the logged channels {missing}")
+        friction = numbered[friction_of(scene)]
+        grid.add((scene.manoeuvre.case, friction.number))
+        out[name] = (scene.manoeuvre.case, friction)
+    if len(sets) != 3 or grid != {(c, n) for c in CASES for n in (1, 2, 3)}:
+        raise StudyError(f"the paper's study is cases a and b × three friction sets; the scenes "
+                         f"give {sorted(grid)} with the sets (μs, μd, damping) {sets}")
+    timelines = {dataclasses.astuple(s.manoeuvre.timeline) for s in scenes.values()}
+    if len(timelines) != 1:
+        raise StudyError("the study's runs must share one timeline")
+    return out
+
+
+def study_runs(runs: dict):
+    """The study's view of ``runs`` (name -> sim.simulate.Run): each run's case, its friction
+    set (numbered by μs, as the paper's sets 1-3) and its study columns."""
+    roles = check_study_scenes({name: run.scene for name, run in runs.items()})
+    return {name: StudyRun(name, *roles[name], study_columns(run.history))
+            for name, run in runs.items()}
+
+
+def study_timeline(runs: dict) -> Timeline:
+    return next(iter(runs.values())).scene.manoeuvre.timeline
+
+
+def run_of(study: dict, case, number):
+    """The StudyRun of ``case`` with friction set ``number``."""
+    for r in study.values():
+        if r.case == case and r.friction.number == number:
+            return r
+    raise StudyError(f"no run of case {case} with friction set {number}")
+
+
+def study_columns(h):
+    """RUN_COLUMNS from a run's history. The run starts at rest in static equilibrium, so Δd is
+    the overlap's change from its first sample (the paper's "increments from static
+    equilibrium"; rod in +)."""
+    missing = [c for c in ("x_m", "rack_m", "d_left_m", "Fz_fl_N") if c not in h]
+    if missing:
+        raise StudyError(f"a study run must log {STUDY_CHANNELS}; missing columns {missing}")
     out = {c: h[c] for c in ("t", "phase", "rack_m", "x_m", "y_m", "yaw_rad", "speed_mps")}
     dt = np.gradient(h["t"])
     for side in SIDES:
-        out[f"dd_{side}_m"] = h[f"d_{side}_m"] - d_static[side]
+        d = h[f"d_{side}_m"]
+        out[f"dd_{side}_m"] = d - d[0]
         # Rod velocity relative to the cylinder (extension +), from the recorded overlap.
-        out[f"v_{side}_mps"] = -np.gradient(h[f"d_{side}_m"]) / dt
+        out[f"v_{side}_mps"] = -np.gradient(d) / dt
         for column, field in FRICTION_CHANNELS.items():
             # Friction off: no friction system, no log; the law's quantities are zero.
             out[column.format(side=side)] = h.get(f"friction_{side}_translation_{field}",
@@ -140,14 +140,7 @@ def run_one(config: RunConfig, start: StaticEquilibrium | None = None, meshcat=N
         out[f"rot_{side}_rad"] = h[f"rot_{side}_rad"]
     for w in ("fl", "fr", "rl", "rr"):
         out[f"Fz_{w}_N"] = h[f"Fz_{w}_N"]
-    out = {c: out[c] for c in RUN_COLUMNS}
-    simulated = float(h["t"][-1])
-    info = {"wall_s": wall, "simulated_s": simulated, "real_time_factor": simulated / wall,
-            "time_step_s": config.time_step_s, "scheme": config.scheme,
-            "frozen_sap_steps": run.monitor.frozen_steps,
-            "first_frozen_sap_step_s": run.monitor.first_frozen_time_s,
-            "lane_change": lane_change_metrics(h, config.timeline)}
-    return out, info, run
+    return {c: out[c] for c in RUN_COLUMNS}
 
 
 # -- the paper's claims, on histories -------------------------------------------------------
@@ -191,9 +184,19 @@ def count_reaching(mu1, mu_s):
     return int(np.sum(at[1:] & ~at[:-1]) + (1 if at.size and at[0] else 0))
 
 
-def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
-    """Verdicts on the paper's claims. ``runs``: name -> history (columns RUN_COLUMNS).
-    ``static_loads``: Fz at rest of fl, fr (N). Returns a list of claim dicts."""
+def evaluate_claims(study: dict, timeline: Timeline):
+    """Verdicts on the paper's claims. ``study``: name -> StudyRun (``study_runs``). Returns
+    (a list of claim dicts, the rod shifts from place a to b per run and side)."""
+    runs = {name: r.columns for name, r in study.items()}
+
+    def run_name(case, number):
+        return run_of(study, case, number).name
+
+    h1 = runs[run_name("a", 1)]
+    static_loads = {"fl": float(h1["Fz_fl_N"][0]), "fr": float(h1["Fz_fr_N"][0])}
+    sets = {n: run_of(study, "a", n).friction for n in (1, 2, 3)}
+    mu = {n: f.mu_s for n, f in sets.items()}
+    high_set = f"set 3 (μs = {sets[3].mu_s:g}, μd = {sets[3].mu_d:g})"
     claims = []
 
     def moved(name, side):
@@ -208,12 +211,12 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
     at_rest = int(np.searchsorted(t, timeline.settle_s))
     speed_up = (t >= timeline.settle_s) & (t < timeline.boundaries()[0])
     normal = float(h3["N_left_N"][at_rest])
-    mu_s = FRICTION_SETS[3][0]
+    mu_s = mu[3]
     unloading = float(h3["Fz_fl_N"][at_rest] - np.min(h3["Fz_fl_N"][speed_up])) \
         if speed_up.any() else 0.0
     capacity = mu_s * normal
     claims.append({
-        "claim": "with (0.4, 0.3) the rods do not return in phase I",
+        "claim": f"with {high_set} the rods do not return in phase I",
         "number": f"rod movement as the acceleration ends, until the lane change: set 3 "
                   f"{1e3 * high:.3f} mm; sets 1-2 at least {1e3 * low:.3f} mm",
         "value_m": high, "reproduced": bool(high <= DISPLACEMENT_THRESHOLD_M < low),
@@ -235,7 +238,7 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
             shifts[name][s] = at_b - at_a
     new_position = max(abs(v) for c in CASES for v in shifts[run_name(c, 3)].values())
     claims.append({
-        "claim": "with (0.4, 0.3) the rods stop at a new position after the manoeuvre "
+        "claim": f"with {high_set} the rods stop at a new position after the manoeuvre "
                  "(place b differs from place a)",
         "number": f"largest |Δd(b) - Δd(a)| with set 3: {1e3 * new_position:.3f} mm",
         "value_m": new_position, "reproduced": bool(new_position > DISPLACEMENT_THRESHOLD_M),
@@ -275,7 +278,7 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
     # difference is numerical (stick-slip amplifies round-off into different stick positions);
     # "almost identical" made explicit: within 1 % of the largest |Δd|.
     worst_sym, peak = 0.0, 0.0
-    for n in FRICTION_SETS:
+    for n in (1, 2, 3):
         a, b = runs[run_name("a", n)], runs[run_name("b", n)]
         for side, other in (("left", "right"), ("right", "left")):
             worst_sym = max(worst_sym, float(np.max(np.abs(a[f"dd_{side}_m"]
@@ -304,12 +307,13 @@ def evaluate_claims(runs: dict, timeline: Timeline, static_loads: dict):
                "(its understeer and steering ratio set them)"})
 
     # 6. μ1 reaches μs only twice (Fig. 16: case a, set 2).
-    mu_s = FRICTION_SETS[2][0]
+    mu_s = mu[2]
     h2 = runs[run_name("a", 2)]
     counts = {s: count_reaching(h2[f"mu1_{s}"], mu_s) for s in SIDES}
     peaks = {s: float(np.max(h2[f"mu1_{s}"]) / mu_s) for s in SIDES}
     claims.append({
-        "claim": "in Fig. 16 (case a, set 2) μ1 reaches μs only twice",
+        "claim": f"in Fig. 16 (case a, set 2: μs = {sets[2].mu_s:g}, μd = {sets[2].mu_d:g}) "
+                 "μ1 reaches μs only twice",
         "number": f"μ1 reaches μs {counts['left']} times (left strut), "
                   f"{counts['right']} times (right strut)",
         "value": counts, "reproduced": bool(counts["left"] == 2),

@@ -1,0 +1,50 @@
+"""The car's drive: actuators on the front wheels' spin joints, the paper's prescribed rotation
+(stiff servos) or an open differential (one torque, split equally)."""
+
+import numpy as np
+from pydrake.multibody.tree import PdControllerGains
+
+from drake_car.model.geometry import SIDES
+
+# Prescribed front-wheel rotation (paper section 4): a stiff SAP servo on each wheel's spin
+# joint; 1e5 N m/rad keeps the wheel within ~0.01 rad of its command at the ~1 kN m drive torque
+# of the speed-up, and 2e3 N m s/rad over-damps the wheel's 0.6 kg m².
+DRIVE_SERVO_GAINS = PdControllerGains(p=1.0e5, d=2.0e3)
+
+
+def rolling_radius(params, axle="front"):
+    """Effective rolling radius of a tyre at its design load: R0 - δ/3."""
+    load = params.design_axle_loads_N()[axle] / 2
+    return params.tyre.unloaded_radius_m - load / params.tyre.radial_stiffness_Npm / 3
+
+
+def add_drive_actuators(plant, car, *, pd):
+    """One actuator per front wheel spin joint (before Finalize), PD-controlled (prescribed
+    rotation) or torque-driven (open differential); kept in ``car.drive_actuators``."""
+    car.drive_actuators = []
+    for side in SIDES:
+        actuator = plant.AddJointActuator(f"drive_{side}", car.joint(f"wheel_front_{side}_spin"))
+        if pd:
+            actuator.set_controller_gains(DRIVE_SERVO_GAINS)
+        car.drive_actuators.append(actuator)
+    return car.drive_actuators
+
+
+def open_differential_gain(plant, car, *, speed_gain_Nm_per_mps):
+    """The open differential's speed controller as one matrix D: [T_left, T_right] =
+    D [x; v_ref; a_ref], x the plant's state. The total torque is
+    T = (m + ΣI_w / R²) R a_ref + K (v_ref - v) with v = R_r (ω_rl + ω_rr) / 2 the speed the
+    free-rolling rear wheels measure (as a car's wheel-speed sensors do), split equally: an open
+    differential gives both wheels the same torque."""
+    params = car.params
+    radius, rear_radius = rolling_radius(params), rolling_radius(params, "rear")
+    inertia = 4 * params.mass.wheel_spin_inertia_kgm2
+    mass = params.mass.total_mass_kg + inertia / radius ** 2
+    nx = plant.num_multibody_states()
+    row = np.zeros(nx + 2)
+    for side in SIDES:
+        v_index = plant.num_positions() + car.joint(f"wheel_rear_{side}_spin").velocity_start()
+        row[v_index] = -speed_gain_Nm_per_mps * rear_radius / 2
+    row[nx] = speed_gain_Nm_per_mps
+    row[nx + 1] = mass * radius
+    return np.vstack([0.5 * row, 0.5 * row])

@@ -1,0 +1,52 @@
+"""Runs any scene and writes what it made:
+
+  DIR/history.csv   every logged channel (t, phase, ...; SI units in the column names)
+  DIR/scene.yaml    the scene as it ran, every value (rerun it: --scene DIR/scene.yaml)
+  DIR/run.json      how the run went: wall time, frozen SAP steps, the end state, provenance
+  DIR/diagram.svg   the Diagram that ran (Graphviz), DIR/diagram_overview.svg the plant's
+                    neighbours only
+  DIR/replay.html   the Meshcat replay, when the scene's visualization is !MeshcatReplay
+
+Bad input (a scene key, a value out of range, a tyre file, an output folder): one line on
+stderr naming it, exit status 2, nothing written.
+
+  python -m drake_car.run --scene scenes/paper_study.yaml --child a_3 --out results/a_3
+  python -m drake_car.run --scene scenes/car.yaml:bump --scene_text "plant: {time_step: 5e-4}" \\
+      --out results/bump
+"""
+
+import sys
+
+from drake_car import cli
+from drake_car.scene.load import load_scene, parse_scene_option
+from drake_car.sim.outputs import output_folder, write_run
+from drake_car.sim.simulate import simulate
+
+
+def main(argv=None):
+    p = cli.parser(__doc__)
+    p.add_argument("--scene", required=True, help="scene file, optionally FILE:ENTRY")
+    p.add_argument("--child", default=None, help="the entry of the scene file to run")
+    p.add_argument("--scene_text", default="", help="YAML laid over the scene")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    args = p.parse_args(argv)
+    path, child = parse_scene_option(args.scene)
+    if args.child is not None:
+        if child is not None and child != args.child:
+            p.error(f"--scene names the entry {child!r} and --child {args.child!r}")
+        child = args.child
+    scene = load_scene(path, child=child, scene_text=args.scene_text or None)
+    with output_folder(args.out) as out:
+        run = simulate(scene, progress=not args.quiet)
+        write_run(run, out)
+    print(f"{scene.name}: {run.history['t'][-1]:g} s simulated in {run.wall_s:.1f} s "
+          f"({run.frozen_sap_steps} frozen SAP steps); wrote {args.out}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    cli.run_main(main)
+
+
+def console():
+    """The ``drake-car-run`` console script."""
+    cli.run_main(main)

@@ -1,0 +1,324 @@
+"""Loading, checking, saving and naming scenes: the one validation path of every entry point.
+
+Layering: a file (a named top-level entry of it: each entry is a scene; entries starting with
+"_" are templates for YAML merge keys), then a ``scene_text`` YAML string on top. Before Drake's
+``yaml_load_typed`` builds the dataclasses, the raw YAML is walked against the schema so that a
+wrong key or value is reported with its whole key path; after it, every section's ``check()``
+and the cross-checks below run. Every message names where (file and entry, or --scene_text),
+the key path, the value and what is allowed, as one line (``SceneError``).
+"""
+
+import dataclasses
+import hashlib
+import math
+import typing
+from pathlib import Path
+
+from pydrake.common.yaml import yaml_dump_typed, yaml_load, yaml_load_typed
+from pydrake.multibody.plant import MultibodyPlantConfig
+
+from drake_car.data import resource
+from drake_car.law.checks import ParameterError, checked
+from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
+from drake_car.scene.scene import Scene, default_plant_config
+
+# Every channel group a scene can log.
+CHANNEL_GROUPS = ("chassis", "steering", "struts", "tyres", "friction", "energy", "top_mounts")
+# Plant-config fields that have no effect on this car (it has no collision geometry): they
+# must keep their defaults, so that every value of a scene changes its run.
+INERT_PLANT_FIELDS = ("penetration_allowance", "stiction_tolerance", "contact_model",
+                      "contact_surface_representation", "adjacent_bodies_collision_filters")
+# The largest step: the tyres' explicit coupling needs less (their own check gives the limit).
+MAX_TIME_STEP_S = 0.01
+# A run's size: at ~0.5 ms of wall time per step (the paper's hardest run at 1 ms on this
+# project's 2-core machine, benchmarks/step_cost.py), 5e6 steps are about 40 minutes.
+WALL_PER_STEP_S = 5e-4
+MAX_STEPS = 5e6
+
+
+def _duration(seconds):
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+class SceneError(ValueError):
+    """A scene is malformed or asks for something impossible; the message names where, the key
+    path, the value and what is allowed."""
+
+
+def load_scene(path=None, *, child=None, scene_text=None) -> Scene:
+    """A scene from ``path`` (its top-level entry ``child``; a file with one entry needs none),
+    with ``scene_text`` laid on top; checked."""
+    scene = Scene()
+    where = "scene defaults"
+    if path is not None:
+        path = Path(path)
+        entries = _read_entries(path)
+        if child is None:
+            if len(entries) != 1:
+                raise SceneError(f"{path}: holds the scenes {', '.join(entries)}; name one "
+                                 f"(FILE:ENTRY)")
+            child = entries[0]
+        elif child not in entries:
+            raise SceneError(f"{path}: no scene {child!r}; it holds {', '.join(entries)}")
+        where = f"{path} [{child}]"
+        raw = yaml_load(filename=str(path))[child]
+        _check_raw(raw, Scene, where, "")
+        scene = _typed(where, schema=Scene, filename=str(path), child_name=child,
+                       defaults=scene)
+    if scene_text:
+        where = f"--scene_text {scene_text!r}"
+        try:
+            raw = yaml_load(data=scene_text)
+        except Exception as e:
+            raise SceneError(f"{where}: not YAML: {_one_line(e)}") from None
+        if raw is None:
+            raw = {}
+        _check_raw(raw, Scene, where, "")
+        scene = _typed(where, schema=Scene, data=scene_text, defaults=scene)
+    return check_scene(scene, where)
+
+
+def load_scene_file(path, scene_text=None):
+    """Every scene of a file (name -> Scene), each with ``scene_text`` on top."""
+    return {child: load_scene(path, child=child, scene_text=scene_text)
+            for child in _read_entries(Path(path))}
+
+
+def parse_scene_option(text):
+    """``FILE`` or ``FILE:ENTRY`` -> (path, entry or None)."""
+    if ":" in text and not Path(text).exists():
+        path, child = text.rsplit(":", 1)
+        return Path(path), child
+    return Path(text), None
+
+
+def dump_scene(scene: Scene) -> str:
+    """The scene as YAML: every value, defaults included (what ran)."""
+    return yaml_dump_typed(scene)
+
+
+def dump_scene_file(scene: Scene) -> str:
+    """A scene file holding ``scene`` as its one entry ("scene"): what a run saves beside its
+    results; ``load_scene`` reads it back to the same scene."""
+    body = "\n".join("  " + line if line else line for line in dump_scene(scene).splitlines())
+    return f"# The scene as it ran (drake_car). Rerun: python -m drake_car.run --scene THIS\n" \
+           f"scene:\n{body}\n"
+
+
+def scene_hash(scene: Scene) -> str:
+    """The scene's content hash (its name left out): equal scenes make equal runs."""
+    return hashlib.sha256(dump_scene(dataclasses.replace(scene, name="")).encode()).hexdigest()[:16]
+
+
+def shipped_scenes():
+    """(path, entry) of every scene shipped in the package's ``scenes/`` folder."""
+    found = []
+    folder = resource("scenes")
+    for item in sorted(folder.iterdir(), key=lambda p: p.name):
+        if item.name.endswith(".yaml"):
+            path = Path(str(item))
+            found += [(path, child) for child in _read_entries(path)]
+    return found
+
+
+def check_scene(scene: Scene, where="scene") -> Scene:
+    """Every section's check and the cross-checks; raises SceneError naming the key."""
+    try:
+        for section in ("car", "friction", "tyres", "road", "manoeuvre", "drive", "simulator",
+                        "logging", "visualization"):
+            value = getattr(scene, section)
+            if value is not None:
+                checked(value, section)
+        _check_plant(scene.plant)
+        _check_cross(scene)
+    except ParameterError as e:
+        raise SceneError(f"{where}: {e}") from None
+    return scene
+
+
+def available_channels(scene: Scene):
+    """The channel groups this scene has."""
+    groups = ["chassis", "steering", "struts", "tyres", "energy"]
+    if scene.friction is not None:
+        groups.append("friction")
+    if scene.car.front.top_mount_stiffness_Npm > 0:
+        groups.append("top_mounts")
+    return groups
+
+
+def channels_of(scene: Scene):
+    """The channel groups the scene logs (``logging.channels``, or all it has)."""
+    if scene.logging.channels is None:
+        return available_channels(scene)
+    return list(scene.logging.channels)
+
+
+# -- checks ---------------------------------------------------------------------------------
+
+def _check_plant(plant: MultibodyPlantConfig):
+    default = default_plant_config()
+    step = plant.time_step
+    if not (isinstance(step, float) and math.isfinite(step) and 0 < step <= MAX_TIME_STEP_S):
+        raise ParameterError("plant.time_step", step,
+                             f"must lie in (0, {MAX_TIME_STEP_S:g}] s (the plant is discrete)")
+    if plant.discrete_contact_approximation != "sap":
+        raise ParameterError("plant.discrete_contact_approximation",
+                             plant.discrete_contact_approximation,
+                             "must be sap: the car's servos and friction are SAP PD actuators")
+    if not plant.use_sampled_output_ports:
+        raise ParameterError("plant.use_sampled_output_ports", False,
+                             "must be true: the friction and tyres read the sampled outputs")
+    for name in INERT_PLANT_FIELDS:
+        if getattr(plant, name) != getattr(default, name):
+            raise ParameterError(f"plant.{name}", getattr(plant, name),
+                                 "has no effect on this car (it has no collision geometry); "
+                                 "leave it out")
+    if not plant.sap_near_rigid_threshold >= 0:
+        raise ParameterError("plant.sap_near_rigid_threshold", plant.sap_near_rigid_threshold,
+                             "must be >= 0")
+
+
+def _check_cross(scene: Scene):
+    m, sim = scene.manoeuvre, scene.simulator
+    end = scene.end_time_s
+    steps = end / scene.time_step_s
+    estimate = f"{steps:.3g} steps, about {_duration(steps * WALL_PER_STEP_S)} of wall time here"
+    if sim.end_time_s is not None and sim.end_time_s > MAX_DURATION_S:
+        raise ParameterError("simulator.end_time_s", sim.end_time_s,
+                             f"must be <= {MAX_DURATION_S:g} s of simulated time ({estimate})")
+    if steps > MAX_STEPS:
+        raise ParameterError("plant.time_step", scene.time_step_s,
+                             f"makes the {end:g} s run {estimate}; runs are limited to "
+                             f"{MAX_STEPS:.0e} steps")
+    if sim.end_time_s is not None and sim.end_time_s > m.end_s:
+        raise ParameterError("simulator.end_time_s", sim.end_time_s,
+                             f"must be <= the manoeuvre's {m.end_s:g} s (lengthen the "
+                             "manoeuvre instead)")
+    if scene.logging.record_period_s > end:
+        raise ParameterError("logging.record_period_s", scene.logging.record_period_s,
+                             f"must be <= the run's {end:g} s")
+    if sim.monitor_period_s < scene.time_step_s:
+        raise ParameterError("simulator.monitor_period_s", sim.monitor_period_s,
+                             f"must be >= plant.time_step = {scene.time_step_s:g} s")
+    if isinstance(m, Settle) and scene.drive != Scene().drive:
+        raise ParameterError("drive", type(scene.drive).__name__,
+                             "has no effect on a Settle manoeuvre (no drive); leave it out")
+    if scene.logging.channels is not None:
+        have = available_channels(scene)
+        for i, group in enumerate(scene.logging.channels):
+            if group not in CHANNEL_GROUPS:
+                raise ParameterError(f"logging.channels[{i}]", group,
+                                     f"must be one of {', '.join(CHANNEL_GROUPS)}")
+            if group not in have:
+                raise ParameterError(f"logging.channels[{i}]", group,
+                                     f"is not in this scene (it has {', '.join(have)})")
+
+
+# -- raw YAML against the schema ------------------------------------------------------------
+
+def _read_entries(path: Path):
+    if path.is_dir():
+        raise SceneError(f"{path}: is a folder, not a scene file")
+    if not path.is_file():
+        raise SceneError(f"{path}: scene file not found")
+    try:
+        data = yaml_load(filename=str(path))
+    except Exception as e:
+        raise SceneError(f"{path}: not a YAML scene file: {_one_line(e)}") from None
+    if not isinstance(data, dict) or not data:
+        raise SceneError(f"{path}: must map scene names to scenes")
+    return [name for name in data if not str(name).startswith("_")]
+
+
+def _typed(where, **kwargs):
+    try:
+        return yaml_load_typed(**kwargs)
+    except Exception as e:  # what the raw check did not catch
+        raise SceneError(f"{where}: {_one_line(e)}") from None
+
+
+def _one_line(e):
+    return " ".join(str(e).split())
+
+
+def _fields(schema):
+    if dataclasses.is_dataclass(schema):
+        hints = typing.get_type_hints(schema)
+        return {f.name: hints[f.name] for f in dataclasses.fields(schema)}
+    return {f.name: f.type for f in getattr(schema, "__fields__", ())}
+
+
+def _name(key):
+    return key or "the scene"
+
+
+def _check_raw(data, schema, where, key):
+    """Walks raw YAML ``data`` against ``schema``; raises SceneError at the first key whose
+    value cannot be what the schema asks."""
+    def fail(value, requirement):
+        raise SceneError(f"{where}: {_name(key)} = {value!r} {requirement}")
+
+    origin = typing.get_origin(schema)
+    if origin is typing.Union:
+        options = [t for t in typing.get_args(schema) if t is not type(None)]
+        if data is None:
+            if len(options) < len(typing.get_args(schema)):
+                return
+            fail(data, "must be given")
+        if len(options) == 1:
+            return _check_raw(data, options[0], where, key)
+        tag = data.get("_tag") if isinstance(data, dict) else None
+        names = {t.__name__: t for t in options}
+        if tag is None:
+            return _check_raw(data, options[0], where, key)
+        if tag.lstrip("!") not in names:
+            fail(tag, f"must be one of {', '.join('!' + n for n in names)}")
+        body = {k: v for k, v in data.items() if k != "_tag"}
+        return _check_raw(body, names[tag.lstrip("!")], where, key)
+    if origin in (list, typing.List):
+        (item,) = typing.get_args(schema)
+        if not isinstance(data, list):
+            fail(data, "must be a list")
+        for i, value in enumerate(data):
+            _check_raw(value, item, where, f"{key}[{i}]")
+        return
+    if schema is float:
+        if isinstance(data, bool) or not isinstance(data, (int, float, str)):
+            fail(data, "must be a number")
+        if isinstance(data, str):
+            try:
+                float(data)
+            except ValueError:
+                fail(data, "must be a number")
+        return
+    if schema is bool:
+        if not isinstance(data, bool):
+            fail(data, "must be true or false")
+        return
+    if schema is str:
+        if not isinstance(data, str):
+            fail(data, "must be a string")
+        return
+    if schema is int:
+        if isinstance(data, bool) or not isinstance(data, int):
+            fail(data, "must be an integer")
+        return
+    fields = _fields(schema)
+    if not fields and not dataclasses.is_dataclass(schema):
+        return
+    if data is None:
+        return
+    if not isinstance(data, dict):
+        fail(data, f"must be a mapping of {', '.join(fields) or 'nothing'}")
+    for name, value in data.items():
+        if name == "_tag":
+            fail(value, f"must not carry a tag ({schema.__name__} has no variants)")
+        if name not in fields:
+            inner = f"{key}.{name}" if key else name
+            raise SceneError(f"{where}: unknown key {inner!r}"
+                             + (f"; {_name(key)} has {', '.join(fields)}" if fields else ""))
+        _check_raw(value, fields[name], where, f"{key}.{name}" if key else name)

@@ -1,0 +1,264 @@
+"""The scene: everything a run is made of, one typed dataclass tree (loaded from YAML with
+Drake's ``yaml_load_typed``; see ``scene.load``). A run is a pure function of its scene.
+
+Sections, each a loadable dataclass with a ``check()`` that names a bad key:
+
+- ``car``: the car's parameters (``model.parameters.CarParameters``: every number with its
+  source), from which the model file is generated;
+- ``friction``: dry friction in the front struts (None: none; the lubricated strut is the car's
+  ``front.strut_damping_Nspm``), with the law's parameters (``law.frd_friction``);
+- ``tyres``: ``!MagicFormula`` (default), ``!LinearTyre`` or ``!VerticalOnly``;
+- ``road``: ``!Flat`` (default), ``!CosineBump`` or ``!SampledProfile`` (``law.road``);
+- ``manoeuvre``: ``!LaneChange`` (default), ``!Straight``, ``!Settle``, ``!RampSteer``,
+  ``!StepSteer`` (``scene.manoeuvres``);
+- ``drive``: ``!PrescribedRotation`` (the paper's) or ``!OpenDifferential``;
+- ``plant``: Drake's ``MultibodyPlantConfig`` (the time step; the car needs SAP);
+- ``simulator``: end time, initial state, the SAP pacer, the divergence monitor's period;
+- ``logging``: which channel groups are logged, how often;
+- ``visualization``: ``!NoVisualization`` (default), ``!MeshcatLive``, ``!MeshcatReplay``.
+"""
+
+import dataclasses
+import typing
+
+from pydrake.multibody.plant import MultibodyPlantConfig
+
+from drake_car.law.checks import ParameterError, checked, nonnegative, one_of, positive
+from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.law.road import Flat, Road
+from drake_car.law.tyre_slip import SlipOptions
+from drake_car.model.parameters import CarParameters
+from drake_car.scene.manoeuvres import LaneChange, Manoeuvre
+
+DEFAULT_TIR = "tyres/pacejka2006_205_60R15.tir"
+
+
+@dataclasses.dataclass
+class Friction:
+    """Dry friction between piston rod and cylinder in both front struts (paper sections 2-3).
+    ``pairs``: translation (along the strut) or translation_rotation (also about it).
+    ``scheme``: fast (the law's linearisation inside SAP's implicit step; stable at 1 ms) or
+    reference (the law applied explicitly; stable only at microsecond steps)."""
+
+    pairs: str = "translation_rotation"
+    scheme: str = "fast"
+    law: StrutFrictionParameters = dataclasses.field(default_factory=StrutFrictionParameters)
+
+    def check(self):
+        one_of(self, "pairs", ("translation", "translation_rotation"))
+        one_of(self, "scheme", ("fast", "reference"))
+        checked(self.law, "law")
+        if self.pairs == "translation":
+            default = StrutFrictionParameters()
+            for name in ("dv_rotation_radps", "dmax_rotation_rad", "preload_moment_Nm"):
+                if getattr(self.law, name) != getattr(default, name):
+                    raise ParameterError(f"law.{name}", getattr(self.law, name),
+                                         "acts on the rotation pair, which pairs: translation "
+                                         "leaves out; remove it or use translation_rotation")
+        return self
+
+    @property
+    def rotation(self):
+        return self.pairs == "translation_rotation"
+
+
+def _check_slip(slip: SlipOptions):
+    checked(slip, "slip")
+    default = SlipOptions()
+    unused = (("v_floor_mps",) if slip.relaxation else
+              ("relaxation_length_long_m", "relaxation_length_lat_m"))
+    for name in unused:
+        if getattr(slip, name) != getattr(default, name):
+            raise ParameterError(f"slip.{name}", getattr(slip, name),
+                                 f"has no effect with slip.relaxation = {slip.relaxation}")
+
+
+@dataclasses.dataclass
+class MagicFormula:
+    """Pacejka's Magic Formula (the book's 2006 form) with coefficients from ``tir_file`` (a
+    path, or a name in the package's ``urdf/`` data such as the default), combined slip or pure
+    slip, and the slip options (relaxation lengths, low-speed damping)."""
+
+    tir_file: str = DEFAULT_TIR
+    combined_slip: bool = True
+    slip: SlipOptions = dataclasses.field(default_factory=SlipOptions)
+
+    def check(self):
+        _check_slip(self.slip)
+        return self
+
+
+@dataclasses.dataclass
+class LinearTyre:
+    """The Magic Formula tyre of ``tir_file`` linearised about zero slip (no saturation)."""
+
+    tir_file: str = DEFAULT_TIR
+    slip: SlipOptions = dataclasses.field(default_factory=SlipOptions)
+
+    def check(self):
+        _check_slip(self.slip)
+        return self
+
+
+@dataclasses.dataclass
+class VerticalOnly:
+    """The tyres' radial spring and damper only (no horizontal forces): for a car at rest."""
+
+    def check(self):
+        return self
+
+
+Tyres = typing.Union[MagicFormula, LinearTyre, VerticalOnly]
+
+
+@dataclasses.dataclass
+class PrescribedRotation:
+    """The paper's drive (section 4): both front wheels' rotation prescribed by stiff servos
+    (a locked front axle). ``reaction``: driveshaft (the torque is reacted by the body, as in a
+    front-drive car) or knuckle (reacted at the wheel joint, as a joint motion in Adams)."""
+
+    reaction: str = "driveshaft"
+
+    def check(self):
+        one_of(self, "reaction", ("driveshaft", "knuckle"))
+        return self
+
+
+@dataclasses.dataclass
+class OpenDifferential:
+    """One drive torque split equally between the front wheels (an open differential), from a
+    speed controller: T = m R a_ref(t) + K (v_ref(t) - v), v the car's speed measured at the
+    free-rolling rear wheels, clamped to ±``max_wheel_torque_Nm`` (both wheels together).
+    The torque is reacted by the body (driveshafts)."""
+
+    # [EST] τ = m R / K = 0.2 s: the car follows its speed profile within a few tenths of a
+    # second without exciting the wheels' spin (their own time constant is ~10 ms).
+    speed_gain_Nm_per_mps: float = 1800.0
+    # [EST] the 1.9 l Escort's ~150 N m through first gear (3.23) and final drive (3.59):
+    # 1740 N m at the wheels; the tyres' grip limits the launch first.
+    max_wheel_torque_Nm: float = 1740.0
+
+    def check(self):
+        positive(self, "speed_gain_Nm_per_mps", "max_wheel_torque_Nm")
+        return self
+
+
+Drive = typing.Union[PrescribedRotation, OpenDifferential]
+
+
+@dataclasses.dataclass
+class Simulator:
+    """``end_time_s``: None runs the whole manoeuvre; a value stops earlier. ``start``:
+    static_equilibrium (at rest where the lubricated car settles on its tyres, as a multibody
+    code's static analysis precedes its dynamic run) or design (the model's design position:
+    the car drops onto its tyres); the equilibrium is found by settling the lubricated car for
+    ``equilibrium_settle_s`` at ``equilibrium_time_step_s`` (None: the scene's own step; the
+    default, 1 ms, gives every step of an accuracy sweep the same initial state and keeps a
+    microsecond-step run from settling for millions of steps). ``sap_pacer``: keep SAP from
+    returning its initial guess near a balance (``systems.sap_pacer``). ``monitor_period_s``:
+    how often the divergence monitor checks the state."""
+
+    end_time_s: typing.Optional[float] = None
+    start: str = "static_equilibrium"
+    equilibrium_settle_s: float = 6.0
+    equilibrium_time_step_s: typing.Optional[float] = 1e-3
+    sap_pacer: bool = True
+    monitor_period_s: float = 0.01
+
+    def check(self):
+        if self.end_time_s is not None:
+            positive(self, "end_time_s")
+        one_of(self, "start", ("static_equilibrium", "design"))
+        positive(self, "equilibrium_settle_s", "monitor_period_s")
+        if self.equilibrium_time_step_s is not None:
+            positive(self, "equilibrium_time_step_s")
+            if self.equilibrium_time_step_s > 0.01:
+                raise ParameterError("equilibrium_time_step_s", self.equilibrium_time_step_s,
+                                     "must be <= 0.01 s")
+        if self.equilibrium_settle_s > 60.0:
+            raise ParameterError("equilibrium_settle_s", self.equilibrium_settle_s,
+                                 "must be <= 60 s (the car settles within ~5 s)")
+        return self
+
+
+@dataclasses.dataclass
+class Logging:
+    """Channel groups logged every ``record_period_s`` by Drake VectorLogSinks. ``channels``:
+    None logs every group the scene has; a list logs exactly those (a group whose effect is off
+    is refused). Groups: chassis, steering, struts, tyres, friction, energy, top_mounts."""
+
+    channels: typing.Optional[list[str]] = None
+    record_period_s: float = 0.01
+
+    def check(self):
+        positive(self, "record_period_s")
+        if self.channels is not None and len(set(self.channels)) != len(self.channels):
+            raise ParameterError("channels", self.channels, "must not repeat a group")
+        return self
+
+
+@dataclasses.dataclass
+class NoVisualization:
+    """No visualiser in the Diagram."""
+
+    def check(self):
+        return self
+
+
+@dataclasses.dataclass
+class MeshcatLive:
+    """Meshcat on localhost (its URL is printed) shows the run as it goes, paced at
+    ``realtime_rate`` (0: as fast as it can)."""
+
+    realtime_rate: float = 1.0
+
+    def check(self):
+        nonnegative(self, "realtime_rate")
+        return self
+
+
+@dataclasses.dataclass
+class MeshcatReplay:
+    """The run is recorded into a self-contained replay page (``replay.html``) with the road
+    and its lane markings drawn. ``camera``: follow (a chase camera behind the car) or overview
+    (the whole manoeuvre in view)."""
+
+    frames_per_second: float = 32.0
+    camera: str = "follow"
+
+    def check(self):
+        positive(self, "frames_per_second")
+        one_of(self, "camera", ("follow", "overview"))
+        return self
+
+
+Visualization = typing.Union[NoVisualization, MeshcatLive, MeshcatReplay]
+
+
+def default_plant_config():
+    return MultibodyPlantConfig(time_step=1e-3, discrete_contact_approximation="sap")
+
+
+@dataclasses.dataclass
+class Scene:
+    name: str = "scene"
+    car: CarParameters = dataclasses.field(default_factory=CarParameters)
+    friction: typing.Optional[Friction] = None
+    tyres: Tyres = dataclasses.field(default_factory=MagicFormula)
+    road: Road = dataclasses.field(default_factory=Flat)
+    manoeuvre: Manoeuvre = dataclasses.field(default_factory=LaneChange)
+    drive: Drive = dataclasses.field(default_factory=PrescribedRotation)
+    plant: MultibodyPlantConfig = dataclasses.field(default_factory=default_plant_config)
+    simulator: Simulator = dataclasses.field(default_factory=Simulator)
+    logging: Logging = dataclasses.field(default_factory=Logging)
+    visualization: Visualization = dataclasses.field(default_factory=NoVisualization)
+
+    @property
+    def time_step_s(self):
+        return self.plant.time_step
+
+    @property
+    def end_time_s(self):
+        """When the run ends (s)."""
+        end = self.simulator.end_time_s
+        return self.manoeuvre.end_s if end is None else end

@@ -1,0 +1,237 @@
+"""``build_diagram(scene)``: the car's Diagram, a straight line of stages, each adding only what
+the scene calls for (build order as Drake's hardware_sim: plant and parser, actuators, Finalize,
+systems and wiring, loggers, visualiser, Build)."""
+
+import dataclasses
+
+import numpy as np
+from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
+from pydrake.systems.framework import DiagramBuilder
+from pydrake.systems.primitives import (
+    LogVectorOutput, MatrixGain, Multiplexer, Saturation, TrajectorySource)
+
+from drake_car.law.magic_formula import MagicFormulaTyre
+from drake_car.law.tyre_contact import RadialTyre
+from drake_car.model.car import add_car
+from drake_car.model.channels import CAR_CHANNELS, CarChannels
+from drake_car.model.drive import add_drive_actuators, open_differential_gain, rolling_radius
+from drake_car.model.loading import tir_path
+from drake_car.model.struts import (
+    declare_strut_friction, make_strut_friction, reference_time_step_limit_s)
+from drake_car.scene.load import channels_of, check_scene
+from drake_car.scene.manoeuvres import speed_trajectory, wheel_rotation_trajectory
+from drake_car.scene.scene import (
+    LinearTyre, MagicFormula, OpenDifferential, PrescribedRotation, Scene)
+from drake_car.sim.actuation import ActuationWiring
+from drake_car.systems.driveshaft import DriveshaftReaction
+from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
+from drake_car.systems.tyre import TyreSystem
+
+
+class BuildError(ValueError):
+    """The scene cannot be built (a step above a stability limit, ...); names the key."""
+
+
+@dataclasses.dataclass
+class CarDiagram:
+    scene: Scene
+    diagram: object
+    plant: object
+    scene_graph: object
+    car: object  # model.car.CarModel
+    tyre: object  # the TyreSystem
+    friction: object  # the StrutFriction of both struts, or None
+    pacer: object  # the SAP pacer's model instance, or None
+    loggers: dict = dataclasses.field(default_factory=dict)  # group -> VectorLogSink
+    log_columns: dict = dataclasses.field(default_factory=dict)  # group -> column names
+    velocity_logger: object = None  # the car's state every step (frozen-step count)
+
+    def plant_context(self, root_context):
+        return self.plant.GetMyContextFromRoot(root_context)
+
+
+def build_diagram(scene: Scene, *, meshcat=None) -> CarDiagram:
+    check_scene(scene)
+    builder = DiagramBuilder()
+    # 1. The plant and the car, then every actuator the scene needs, before Finalize.
+    plant, scene_graph = AddMultibodyPlant(scene.plant, builder)
+    car = add_car(plant, scene.car)
+    wiring = ActuationWiring(plant, car.instance)
+    wiring.add("rack", 1, pd=True)
+    if car.top_mount_actuators:
+        wiring.add("top_mount", len(car.top_mount_actuators), pd=True, rest_at_zero=True)
+    drives = scene.manoeuvre.drives
+    if drives:
+        add_drive_actuators(plant, car, pd=isinstance(scene.drive, PrescribedRotation))
+        wiring.add("drive", 2, pd=isinstance(scene.drive, PrescribedRotation))
+    declarations = None
+    check_stability(scene)
+    if scene.friction is not None:
+        declarations = declare_strut_friction(plant, car, rotation=scene.friction.rotation,
+                                              scheme=scene.friction.scheme)
+        wiring.add("friction", len(sum(declarations.values(), [])),
+                   pd=scene.friction.scheme == "fast")
+    pacer = add_sap_pacer(plant) if scene.simulator.sap_pacer else None
+    plant.Finalize()
+    if pacer is not None:
+        connect_sap_pacer(builder, plant, pacer)
+
+    # 2. Tyres: forces on the wheels from their poses and velocities.
+    tyre = _add_tyres(builder, plant, car, scene)
+    applied = [tyre.GetOutputPort("tyre_forces")]
+
+    # 3. Strut friction: reactions in, PD targets and feed-forward out.
+    friction = None
+    if declarations is not None:
+        friction = builder.AddSystem(make_strut_friction(
+            plant, car, declarations, scene.friction.law, scheme=scene.friction.scheme))
+        friction.connect(builder, plant)
+        wiring.connect("friction", desired=friction.desired_state_output_port(),
+                       feedforward=friction.actuation_output_port())
+
+    # 4. Drive: the speed profile through the front wheels, torque reacted by the body.
+    if drives:
+        applied += _add_drive(builder, plant, car, scene, wiring)
+
+    # 5. Steering: the rack servo follows the manoeuvre's rack trajectory.
+    rack = builder.AddSystem(TrajectorySource(scene.manoeuvre.rack(), 1))
+    rack.set_name("rack_command")
+    wiring.connect("rack", desired=rack.get_output_port(0))
+
+    # 6. Everything into the plant.
+    wiring.finish(builder)
+    if len(applied) == 1:
+        builder.Connect(applied[0], plant.get_applied_spatial_force_input_port())
+    else:
+        combine = builder.AddSystem(ExternallyAppliedSpatialForceMultiplexer(len(applied)))
+        combine.set_name("applied_forces")
+        for i, port in enumerate(applied):
+            builder.Connect(port, combine.get_input_port(i))
+        builder.Connect(combine.get_output_port(0), plant.get_applied_spatial_force_input_port())
+
+    # 7. Loggers: one per channel group asked for; the car's state every step.
+    loggers, columns = _add_loggers(builder, plant, car, tyre, friction, pacer, scene)
+    velocity_logger = LogVectorOutput(plant.get_state_output_port(car.instance), builder,
+                                      scene.time_step_s)
+    velocity_logger.set_name("car_state_every_step")
+
+    # 8. Visualiser.
+    if meshcat is not None:
+        from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams, Role
+        period = 1.0 / getattr(scene.visualization, "frames_per_second", 32.0)
+        MeshcatVisualizer.AddToBuilder(
+            builder, scene_graph, meshcat,
+            MeshcatVisualizerParams(role=Role.kIllustration, publish_period=period))
+    diagram = builder.Build()
+    diagram.set_name("car")
+    return CarDiagram(scene=scene, diagram=diagram, plant=plant, scene_graph=scene_graph,
+                      car=car, tyre=tyre, friction=friction, pacer=pacer, loggers=loggers,
+                      log_columns=columns, velocity_logger=velocity_logger)
+
+
+def check_stability(scene):
+    """Refuses (BuildError) a step above the stability limit of a scheme with an explicit part:
+    the reference friction scheme (here) and the tyres (when they are built)."""
+    if scene.friction is None or scene.friction.scheme != "reference":
+        return
+    limit = reference_time_step_limit_s(scene.car, scene.friction.law)
+    if scene.time_step_s > limit:
+        raise BuildError(
+            f"plant.time_step = {scene.time_step_s:g} s is above the explicit (reference) "
+            f"friction scheme's stability limit {limit:.2g} s on this car (2 m Δv / (1.5 μs N) "
+            "with the strut's moving mass and its normal force at rest); use a smaller step or "
+            "friction.scheme: fast")
+
+
+def _add_tyres(builder, plant, car, scene):
+    tyres = scene.tyres
+    magic = None
+    slip = getattr(tyres, "slip", None)
+    if isinstance(tyres, (MagicFormula, LinearTyre)):
+        magic = MagicFormulaTyre.from_file(tir_path(tyres.tir_file))
+    v = scene.car.tyre
+    kwargs = {} if slip is None else {"slip": slip}
+    tyre = builder.AddSystem(TyreSystem(
+        car.wheel_bodies(),
+        RadialTyre(v.unloaded_radius_m, v.radial_stiffness_Npm, v.radial_damping_Nspm),
+        scene.road, magic_formula_tyre=magic,
+        combined=getattr(tyres, "combined_slip", True),
+        linear=isinstance(tyres, LinearTyre), time_step_s=scene.time_step_s, **kwargs))
+    tyre.set_name("tyres")
+    try:
+        tyre.check_time_step(scene.time_step_s, scene.car.mass.wheel_spin_inertia_kgm2)
+    except ValueError as e:
+        raise BuildError(f"plant.time_step: {e}") from None
+    builder.Connect(plant.get_body_poses_output_port(), tyre.GetInputPort("body_poses"))
+    builder.Connect(plant.get_body_spatial_velocities_output_port(),
+                    tyre.GetInputPort("body_spatial_velocities"))
+    return tyre
+
+
+def _add_drive(builder, plant, car, scene, wiring):
+    """The drive torque on the front wheels; returns the ports of forces it applies."""
+    timeline = scene.manoeuvre.timeline
+    drive = scene.drive
+    if isinstance(drive, PrescribedRotation):
+        command = builder.AddSystem(TrajectorySource(
+            wheel_rotation_trajectory(timeline, rolling_radius(scene.car)), 1))
+        command.set_name("drive_command")
+        wiring.connect("drive", desired=command.get_output_port(0))
+        reacted_by_body = drive.reaction == "driveshaft"
+    else:
+        assert isinstance(drive, OpenDifferential)
+        # Speed controller (all Drake C++ primitives): [plant state; v_ref; a_ref] -> the two
+        # wheels' torques, each half the total, clamped.
+        profile = builder.AddSystem(TrajectorySource(speed_trajectory(timeline)))
+        profile.set_name("speed_profile")
+        stack = builder.AddSystem(Multiplexer([plant.num_multibody_states(), 2]))
+        stack.set_name("speed_controller_inputs")
+        builder.Connect(plant.get_state_output_port(), stack.get_input_port(0))
+        builder.Connect(profile.get_output_port(0), stack.get_input_port(1))
+        gain = builder.AddSystem(MatrixGain(open_differential_gain(
+            plant, car, speed_gain_Nm_per_mps=drive.speed_gain_Nm_per_mps)))
+        gain.set_name("open_differential")
+        limit = 0.5 * drive.max_wheel_torque_Nm
+        clamp = builder.AddSystem(Saturation(np.full(2, -limit), np.full(2, limit)))
+        clamp.set_name("drive_torque_limit")
+        builder.Connect(stack.get_output_port(0), gain.get_input_port())
+        builder.Connect(gain.get_output_port(), clamp.get_input_port())
+        wiring.connect("drive", feedforward=clamp.get_output_port())
+        reacted_by_body = True
+    if not reacted_by_body:
+        return []
+    shafts = builder.AddSystem(DriveshaftReaction(
+        plant, car.instance, car.drive_actuators,
+        [car.body(f"knuckle_{side}") for side in ("left", "right")], car.body("chassis")))
+    shafts.set_name("driveshafts")
+    builder.Connect(plant.get_net_actuation_output_port(car.instance),
+                    shafts.GetInputPort("net_actuation"))
+    builder.Connect(plant.get_body_poses_output_port(), shafts.GetInputPort("body_poses"))
+    return [shafts.GetOutputPort("reaction_forces")]
+
+
+def _add_loggers(builder, plant, car, tyre, friction, pacer, scene):
+    groups = channels_of(scene)
+    period = scene.logging.record_period_s
+    loggers, columns = {}, {}
+    car_groups = [g for g in groups if g in CAR_CHANNELS]
+    if car_groups:
+        channels = builder.AddSystem(CarChannels(plant, car, car_groups,
+                                                 pacer_instance=pacer))
+        channels.set_name("car_channels")
+        channels.connect(builder, plant)
+        for group in car_groups:
+            loggers[group] = LogVectorOutput(channels.GetOutputPort(group), builder, period)
+            columns[group] = list(CAR_CHANNELS[group])
+    if "tyres" in groups:
+        loggers["tyres"] = LogVectorOutput(tyre.GetOutputPort("tyre_diagnostics"), builder,
+                                           period)
+        columns["tyres"] = tyre.diagnostic_names()
+    if "friction" in groups:
+        loggers["friction"] = LogVectorOutput(friction.GetOutputPort("diagnostics"), builder,
+                                              period)
+        columns["friction"] = [f"friction_{name}" for name in friction.diagnostic_names()]
+    for group, logger in loggers.items():
+        logger.set_name(f"log_{group}")
+    return loggers, columns
+

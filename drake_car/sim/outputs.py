@@ -1,0 +1,247 @@
+"""Writing results: all-or-nothing output folders, lossless CSV, JSON with provenance, the
+Diagram as SVG, and a run's own files.
+
+An output folder is written all or nothing: ``output_folder(out)`` checks the target at once
+(an existing file, a folder that is not a drake_car output, an unwritable place are refused
+before any work), takes a lock (a second writer to the same folder is refused), and yields a
+temporary folder beside the target; on success the target is replaced by it whole (a reused
+folder never mixes old and new files), on any error, Ctrl-C or SIGTERM the temporary folder is
+removed. Temporary folders and locks of killed runs are removed by the next run (and ignored
+by git: ``.gitignore``).
+"""
+
+import contextlib
+import csv
+import datetime
+import importlib.metadata
+import json
+import math
+import os
+import platform
+import shutil
+import signal
+import subprocess
+import sys
+import uuid
+from pathlib import Path
+
+import numpy as np
+
+MARKER = ".drake_car_output"  # in every folder this module wrote
+
+
+class OutputError(ValueError):
+    """The output folder cannot be used; the message names it and why."""
+
+
+def check_output_target(out_dir):
+    """Refuses an output target that cannot be written as a whole, before any work."""
+    out_dir = Path(out_dir)
+    if out_dir.is_file() or (out_dir.exists() and not out_dir.is_dir()):
+        raise OutputError(f"--out {out_dir}: is a file, not a folder")
+    if out_dir.is_dir() and any(out_dir.iterdir()) and not (out_dir / MARKER).is_file():
+        raise OutputError(f"--out {out_dir}: exists, is not empty and was not written by "
+                          "drake_car; choose a new or empty folder (it would be replaced whole)")
+    parent = out_dir.parent
+    probe = parent
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        raise OutputError(f"--out {out_dir}: {probe} is not a writable folder")
+
+
+def _pid_alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _remove_stale(parent, name):
+    """Temporary folders and locks of runs that were killed."""
+    for item in parent.glob(f".{name}.partial-*"):
+        try:
+            pid = int(item.name.split(".partial-")[1].split("-")[0])
+        except (IndexError, ValueError):
+            continue
+        if not _pid_alive(pid):
+            shutil.rmtree(item, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def _lock(parent, name):
+    lock = parent / f".{name}.lock"
+    for _ in range(2):
+        try:
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+        except FileExistsError:
+            try:
+                pid = int(lock.read_text().strip() or "0")
+            except (OSError, ValueError):
+                pid = 0
+            if pid and _pid_alive(pid) and pid != os.getpid():
+                raise OutputError(f"--out {parent / name}: another run (pid {pid}) is writing "
+                                  "to it; wait for it or choose another folder") from None
+            lock.unlink(missing_ok=True)  # a killed run's lock
+            continue
+        with os.fdopen(fd, "w") as f:
+            f.write(str(os.getpid()))
+        break
+    else:
+        raise OutputError(f"--out {parent / name}: cannot take the lock {lock}")
+    try:
+        yield
+    finally:
+        lock.unlink(missing_ok=True)
+
+
+@contextlib.contextmanager
+def _terminate_as_exit():
+    """SIGTERM raises SystemExit here, so ``finally`` blocks clean up as on Ctrl-C."""
+    def handler(signum, frame):
+        raise SystemExit(128 + signum)
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread: leave the signal alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+@contextlib.contextmanager
+def output_folder(out_dir):
+    """Yields a temporary folder beside ``out_dir``; on success it replaces ``out_dir`` whole;
+    on any error (or SIGINT/SIGTERM) it is removed and ``out_dir`` is left as it was."""
+    out_dir = Path(out_dir).absolute()
+    check_output_target(out_dir)
+    parent, name = out_dir.parent, out_dir.name
+    parent.mkdir(parents=True, exist_ok=True)
+    _remove_stale(parent, name)
+    with _terminate_as_exit(), _lock(parent, name):
+        staging = parent / f".{name}.partial-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+        staging.mkdir()
+        try:
+            (staging / MARKER).write_text("written by drake_car; replaced whole by the next "
+                                          "run that writes here\n")
+            yield staging
+            check_output_target(out_dir)  # still a folder we may replace
+            old = None
+            if out_dir.exists():
+                old = parent / f".{name}.partial-{os.getpid()}-old-{uuid.uuid4().hex[:8]}"
+                out_dir.rename(old)
+            staging.rename(out_dir)
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)
+        finally:
+            if staging.exists():
+                shutil.rmtree(staging, ignore_errors=True)
+
+
+def provenance(**extra):
+    """How a result was made: command, versions, commit, time."""
+    root = Path(__file__).resolve().parents[2]
+    try:
+        commit = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"],
+                                capture_output=True, text=True, timeout=5).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        commit = ""
+    versions = {}
+    for package in ("drake", "numpy"):
+        try:
+            versions[package] = importlib.metadata.version(package)
+        except importlib.metadata.PackageNotFoundError:
+            versions[package] = "unknown"
+    info = {
+        "command": " ".join([Path(sys.argv[0]).name] + sys.argv[1:]),
+        "git_commit": commit or "unknown",
+        "drake": versions["drake"],
+        "python": platform.python_version(),
+        "numpy": versions["numpy"],
+        "machine": platform.machine(),
+        "created_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+    }
+    info.update(extra)
+    return info
+
+
+def plain(value):
+    """``value`` with numpy types and non-finite floats made JSON-ready."""
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist())
+    if isinstance(value, (np.floating, np.integer, np.bool_)):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def write_json(path, data):
+    Path(path).write_text(json.dumps(plain(data), indent=2, sort_keys=False) + "\n")
+
+
+def write_csv(path, columns: dict):
+    """``columns``: name -> sequence (all the same length); strings or numbers. Floats are
+    written with ``repr`` (shortest round-trip form): the CSV carries the run's bits."""
+    names = list(columns)
+    lengths = {len(columns[n]) for n in names}
+    if len(lengths) > 1:
+        raise ValueError(f"columns of different lengths: "
+                         f"{ {n: len(columns[n]) for n in names} }")
+    rows = zip(*(columns[n] for n in names))
+    with open(path, "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(names)
+        for row in rows:
+            writer.writerow([repr(float(x)) if isinstance(x, (float, np.floating)) else x
+                             for x in row])
+
+
+def read_csv(path):
+    """Reads a CSV written by ``write_csv``: name -> numpy array (or list of str)."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    names, data = rows[0], rows[1:]
+    out = {}
+    for i, name in enumerate(names):
+        values = [r[i] for r in data]
+        try:
+            out[name] = np.array([float(v) for v in values])
+        except ValueError:
+            out[name] = values
+    return out
+
+
+def write_diagram_svg(dot_text, path):
+    """Draws Graphviz ``dot_text`` as SVG (and keeps the .dot beside it)."""
+    dot = shutil.which("dot")
+    if dot is None:
+        raise OutputError("Graphviz's 'dot' is not installed; run tools/setup.sh (or install "
+                          "the 'graphviz' package) to draw the diagram")
+    svg = subprocess.run([dot, "-Tsvg"], input=dot_text, capture_output=True, text=True,
+                         check=True, timeout=120).stdout
+    Path(path).write_text(svg)
+    Path(path).with_suffix(".dot").write_text(dot_text)
+
+
+def write_run(run, folder, *, diagram=True):
+    """A run's own files: history.csv, scene.yaml (the scene as it ran), run.json (how it went,
+    provenance), diagram.svg and replay.html when there is one."""
+    folder = Path(folder)
+    write_csv(folder / "history.csv", run.history)
+    (folder / "scene.yaml").write_text(run.scene_file_text)
+    write_json(folder / "run.json", run.record() | {"provenance": provenance()})
+    if diagram:
+        write_diagram_svg(run.diagram_dot, folder / "diagram.svg")
+    if run.replay_html is not None:
+        (folder / "replay.html").write_text(run.replay_html)
+

@@ -1,0 +1,213 @@
+"""``simulate(scene) -> Run``: the one runner. It builds the scene's Diagram, sets the initial
+state the scene asks for, runs under the divergence monitor with an optional progress bar,
+and returns the logged history with the scene that ran, the Diagram's picture (Graphviz) and
+the replay page when the scene asks for one."""
+
+import dataclasses
+import functools
+import sys
+import time
+
+import numpy as np
+from pydrake.systems.analysis import Simulator
+
+from drake_car.model.car import loop_closure_error, strut_overlap
+from drake_car.model.geometry import SIDES
+from pydrake.common.yaml import yaml_load_typed
+
+from drake_car.scene.load import (
+    WALL_PER_STEP_S, check_scene, dump_scene, dump_scene_file, scene_hash)
+from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
+from drake_car.sim.build import build_diagram
+from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
+from drake_car.sim.monitor import Monitor
+from drake_car.systems.tyre import WHEELS
+
+# Runs whose estimate exceeds this print it first.
+ANNOUNCE_WALL_S = 60.0
+
+
+@dataclasses.dataclass
+class Run:
+    """What a run made. ``history``: "t", "phase" and the logged channel groups' columns
+    (numpy arrays; "phase" a list of str). ``final``: the state at the end (corner loads,
+    ride heights, strut overlaps, loop-closure error, the car's positions). ``diagram_dot``:
+    the Diagram as Graphviz text. ``replay_html``: the Meshcat replay page, when asked for."""
+
+    scene: Scene
+    history: dict
+    wall_s: float
+    frozen_sap_steps: int
+    first_frozen_sap_step_s: float | None
+    steps: int
+    final: dict
+    diagram_dot: str
+    replay_html: str | None = None
+
+    def __getstate__(self):
+        # Drake's configs do not pickle: a Run travels (to and from sweep workers) with its
+        # scene as YAML, which loads back to the same scene.
+        state = dict(self.__dict__)
+        state["scene"] = dump_scene(self.scene)
+        return state
+
+    def __setstate__(self, state):
+        state = dict(state)
+        state["scene"] = yaml_load_typed(schema=Scene, data=state["scene"])
+        self.__dict__.update(state)
+
+    @property
+    def scene_hash(self):
+        return scene_hash(self.scene)
+
+    @property
+    def scene_yaml(self):
+        return dump_scene(self.scene)
+
+    @property
+    def scene_file_text(self):
+        """The scene as a scene file (one entry): what ``write_run`` saves as scene.yaml."""
+        return dump_scene_file(self.scene)
+
+    def record(self):
+        """What a run says about itself (JSON-ready)."""
+        return {"scene": self.scene.name, "scene_hash": self.scene_hash,
+                "wall_s": self.wall_s, "simulated_s": float(self.history["t"][-1]),
+                "real_time_factor": float(self.history["t"][-1]) / max(self.wall_s, 1e-9),
+                "steps": self.steps, "frozen_sap_steps": self.frozen_sap_steps,
+                "first_frozen_sap_step_s": self.first_frozen_sap_step_s,
+                "final": {k: v for k, v in self.final.items() if k != "positions"}}
+
+
+def estimate_wall_s(scene: Scene):
+    return scene.end_time_s / scene.time_step_s * WALL_PER_STEP_S
+
+
+def simulate(scene: Scene, *, progress=False, meshcat=None) -> Run:
+    """Runs ``scene``; ``progress`` shows a bar of the simulated time on stderr. A scene with
+    ``MeshcatLive`` or ``MeshcatReplay`` visualisation starts a Meshcat server on localhost
+    unless ``meshcat`` is given."""
+    check_scene(scene)
+    visual = scene.visualization
+    if isinstance(visual, (MeshcatLive, MeshcatReplay)) and meshcat is None:
+        from drake_car.sim.replay import start_meshcat
+        meshcat = start_meshcat()
+        if isinstance(visual, MeshcatLive):
+            print(f"Meshcat: {meshcat.web_url()}", file=sys.stderr)
+    elif not isinstance(visual, (MeshcatLive, MeshcatReplay)):
+        meshcat = None
+    built = build_diagram(scene, meshcat=meshcat)
+    simulator = Simulator(built.diagram)
+    simulator.set_target_realtime_rate(
+        visual.realtime_rate if isinstance(visual, MeshcatLive) else 0.0)
+    root = simulator.get_mutable_context()
+    _set_initial_state(built, root, scene)
+    end = scene.end_time_s
+    estimate = estimate_wall_s(scene)
+    if progress and estimate > ANNOUNCE_WALL_S:
+        print(f"{scene.name}: {end:g} s at {scene.time_step_s:g} s steps, about "
+              f"{estimate / 60:.0f} min of wall time", file=sys.stderr)
+    recorder = None
+    if isinstance(visual, MeshcatReplay):
+        from drake_car.sim.replay import ReplayRecorder
+        recorder = ReplayRecorder(meshcat, built, visual)
+    monitor = Monitor(built.plant, built.diagram, state_logger=built.velocity_logger,
+                      instance=built.car.instance)
+    simulator.Initialize()
+    bar = _progress_bar(scene, end) if progress else None
+    period = scene.simulator.monitor_period_s
+    chunks = max(1, int(np.ceil(end / period - 1e-9)))
+    began = time.perf_counter()
+    try:
+        for k in range(1, chunks + 1):
+            target = min(k * period, end)
+            simulator.AdvanceTo(target)
+            monitor.check(root)
+            if recorder is not None:
+                recorder.frame(root)
+            if bar is not None:
+                bar.update(target - bar.n)
+    finally:
+        if bar is not None:
+            bar.close()
+    wall = time.perf_counter() - began
+    history = logged_history(built, root)
+    history["phase"] = [scene.manoeuvre.phase(t) for t in history["t"]]
+    html = recorder.finish() if recorder is not None else None
+    dot = built.diagram.GetGraphvizString(max_depth=1, options={"plant/split": "I/O"})
+    return Run(scene=scene, history=history, wall_s=wall,
+               frozen_sap_steps=monitor.stats.frozen_steps,
+               first_frozen_sap_step_s=monitor.stats.first_frozen_time_s,
+               steps=monitor.stats.steps, final=final_state(built, root), diagram_dot=dot,
+               replay_html=html)
+
+
+def static_equilibrium(scene: Scene) -> Equilibrium:
+    """Where ``scene``'s car rests (``sim.equilibrium``), cached by the settling scene's
+    content."""
+    return _settled(dump_scene(equilibrium_scene(scene)))
+
+
+@functools.lru_cache(maxsize=64)
+def _settled(settle_yaml) -> Equilibrium:
+    return equilibrium_from_run(simulate(yaml_load_typed(schema=Scene, data=settle_yaml)))
+
+
+def _set_initial_state(built, root, scene):
+    if scene.simulator.start != "static_equilibrium":
+        return
+    start = static_equilibrium(scene)
+    plant = built.plant
+    plant.SetPositions(plant.GetMyMutableContextFromRoot(root), built.car.instance,
+                       np.asarray(start.positions))
+
+
+def _progress_bar(scene, end):
+    from tqdm import tqdm
+    return tqdm(total=end, desc=scene.name, unit="s sim", file=sys.stderr, leave=False,
+                disable=None, mininterval=0.5,
+                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} s "
+                           "[{elapsed}<{remaining}]")
+
+
+def logged_history(built, root_context):
+    """Columns of every logger of ``built``, with their sample times "t"."""
+    history = {}
+    for group, logger in built.loggers.items():
+        log = logger.FindLog(root_context)
+        times = log.sample_times()
+        if "t" in history and not np.array_equal(history["t"], times):
+            raise RuntimeError(f"logger of {group} sampled at other times than the others")
+        history["t"] = np.array(times)
+        data = log.data()
+        for row, name in enumerate(built.log_columns[group]):
+            history[name] = np.array(data[row])
+    if "t" not in history:
+        period = built.scene.logging.record_period_s
+        history["t"] = np.arange(int(round(built.scene.end_time_s / period)) + 1) * period
+    return history
+
+
+def final_state(built, root):
+    """The car at the end of a run: what a settled car is judged by."""
+    plant, car = built.plant, built.car
+    pc = plant.GetMyContextFromRoot(root)
+    tyre_context = built.tyre.GetMyContextFromRoot(root)
+    loads = built.tyre.GetOutputPort("tyre_loads").Eval(tyre_context)
+    chassis = car.body("chassis").EvalPoseInWorld(pc)
+    r0 = car.params.tyre.unloaded_radius_m
+    # Height above the road of the chassis points above the axle centres at the design
+    # wheel-centre height: (0, 0, R0) and (-L, 0, R0) in the chassis frame (design: R0).
+    ride = {"front": float(chassis.multiply(np.array([0.0, 0.0, r0]))[2]),
+            "rear": float(chassis.multiply(np.array([-car.params.wheelbase_m, 0.0, r0]))[2])}
+    return {
+        "corner_loads_N": {w: float(loads[i]) for i, w in enumerate(WHEELS)},
+        "design_axle_loads_N": car.params.design_axle_loads_N(),
+        "ride_height_m": ride,
+        "strut_overlap_m": {s: float(strut_overlap(car, pc, s)) for s in SIDES},
+        "loop_closure_error_m": loop_closure_error(car, pc),
+        "total_mass_kg": float(plant.CalcTotalMass(pc, [car.instance])),
+        "max_abs_generalized_velocity": float(
+            np.max(np.abs(plant.GetVelocities(pc, car.instance)))),
+        "positions": plant.GetPositions(pc, car.instance).tolist(),
+    }

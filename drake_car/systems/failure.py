@@ -1,0 +1,6 @@
+"""A run that cannot go on for a physical reason (the rod has left its guide, the state has
+diverged): raised from inside a simulation, reported by the scripts as one line (exit 2)."""
+
+
+class SimulationFailure(RuntimeError):
+    """The simulation cannot continue; the message names the time, the quantity and why."""

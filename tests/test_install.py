@@ -1,0 +1,38 @@
+"""The package installed from a built wheel (not editable), run from another folder: it finds
+its shipped scenes, its tyre data and the lane change's calibration as package data."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.slow
+def test_a_wheel_installs_and_runs_from_any_folder(tmp_path):
+    wheels, target, elsewhere = tmp_path / "wheels", tmp_path / "site", tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w",
+                    str(wheels), str(ROOT)], check=True, capture_output=True, timeout=600)
+    (wheel,) = wheels.glob("drake_car-*.whl")
+    subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "--quiet", "--target",
+                    str(target), str(wheel)], check=True, capture_output=True, timeout=600)
+    env = dict(os.environ, PYTHONPATH=str(target))
+    probe = subprocess.run(
+        [sys.executable, "-c",
+         "import drake_car, sys; from drake_car.scene.load import shipped_scenes; "
+         "print(drake_car.__file__); print(len(shipped_scenes()))"],
+        cwd=elsewhere, env=env, capture_output=True, text=True, timeout=300, check=True)
+    where, count = probe.stdout.split()
+    assert Path(where).is_relative_to(target), f"imported {where}, not the installed wheel"
+    assert int(count) >= 10
+    scene = target / "drake_car" / "data" / "scenes" / "paper_study.yaml"
+    run = subprocess.run(
+        [sys.executable, "-m", "drake_car.run", "--scene", f"{scene}:a_3", "--scene_text",
+         "simulator: {end_time_s: 0.1}", "--out", str(elsewhere / "out"), "--quiet"],
+        cwd=elsewhere, env=env, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert (elsewhere / "out" / "history.csv").is_file()
