@@ -10,7 +10,8 @@ from conftest import car_scene, paper_scene
 from drake_car.data import resource
 from drake_car.law.magic_formula import MagicFormulaTyre, magic_formula
 from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
-from drake_car.scene.manoeuvres import Timeline
+from drake_car.model.drive import rolling_radius
+from drake_car.scene.manoeuvres import Timeline, speed_profile
 from drake_car.sim.simulate import simulate
 from drake_car.study.calibration import lane_change_metrics
 
@@ -19,19 +20,49 @@ TARGET_MPS = 60 / 3.6
 
 
 def test_straight_run_keeps_its_line_and_speed():
-    run = simulate(car_scene("straight", "logging: {record_period_s: 0.05}"))
+    """The open differential follows a launch the car can do (0 -> 60 km/h in 5 s: 0.34 g
+    mean, 0.45 g peak, within the drive's torque and the tyres' grip): the speed tracks the
+    profile within 2 % (the speed controller's lag, τ = m R / K = 0.2 s, at the profile's
+    jerk-limited acceleration) and holds 60 km/h within 0.5 % (rolling resistance against the
+    controller's gain: ~0.1 %); the car keeps its line."""
+    scene = car_scene("straight", "manoeuvre: !Straight {timeline: {speed_up_s: 5.0}}\n"
+                                  "logging: {record_period_s: 0.05}")
+    run = simulate(scene)
     h = run.history
-    assert np.all(np.isfinite(h["y_m"])) and h["t"][-1] == pytest.approx(10.0)
+    timeline = scene.manoeuvre.timeline
+    assert h["t"][-1] == pytest.approx(timeline.duration_s)
     assert np.max(np.abs(h["y_m"])) < 0.05
     assert np.max(np.abs(np.degrees(h["yaw_rad"]))) < 0.5
-    # 60 km/h reached 3 s after the speed-up began and held; the prescribed wheel speed is
-    # reached up to the tyre's longitudinal slip at cruise (rolling resistance over the slip
-    # stiffness, ~0.1 %) and the effective rolling radius estimate (R0 - δ/3): 1 %.
-    reached = h["t"] >= TIMELINE.settle_s + TIMELINE.speed_up_s + 0.5
-    assert_allclose(h["speed_mps"][reached], TARGET_MPS, rtol=0.01)
+    reference, _, _ = speed_profile(h["t"], timeline)
+    assert np.max(np.abs(h["speed_mps"] - reference)) < 0.02 * TARGET_MPS
+    cruising = h["t"] >= timeline.boundaries()[0] + 1.0
+    assert_allclose(h["speed_mps"][cruising], TARGET_MPS, rtol=0.005)
     # Cruising near a balance is where SAP would return its guess (about 300 steps after
     # 9.2 s at 1 ms without the pacer, systems/sap_pacer.py): with it, none.
-    assert run.steps >= 9999 and run.frozen_sap_steps == 0
+    assert run.frozen_sap_steps == 0 and run.steps >= int(timeline.duration_s / 1e-3) - 1
+
+
+def test_the_paper_s_launch_is_beyond_the_car():
+    """The paper's 0 -> 60 km/h in 3 s asks 0.57 g mean of a front-drive car whose drive gives
+    at most T/(m R) = 1740 N m / (1226 kg · 0.30 m) = 0.48 g (the 1.9 l engine in first gear,
+    [EST] in scene.OpenDifferential): the car does what it can, at the torque limit, and
+    reaches 60 km/h about a second late, with front slip at the tyre's peak (κ ≈ 0.12)."""
+    scene = car_scene("straight", "logging: {record_period_s: 0.01}")
+    h = simulate(scene).history
+    timeline = scene.manoeuvre.timeline
+    t0, t2 = timeline.settle_s, timeline.boundaries()[0]
+    speed = h["speed_mps"]
+    mean_g = (np.interp(t2, h["t"], speed) - np.interp(t0, h["t"], speed)) / (t2 - t0) / 9.81
+    limit_g = scene.drive.max_wheel_torque_Nm / (
+        scene.car.mass.total_mass_kg * rolling_radius(scene.car)) / 9.81
+    print(f"launch: mean {mean_g:.3f} g asked {timeline.speed_mps / timeline.speed_up_s / 9.81:.3f}"
+          f" g, drive limit {limit_g:.3f} g, peak front slip {np.max(h['kappa_fl']):.3f}")
+    assert mean_g < timeline.speed_mps / timeline.speed_up_s / 9.81
+    assert mean_g <= limit_g
+    assert 0.05 < np.max(h["kappa_fl"]) < 0.3, "slip at, not far beyond, the tyre's peak"
+    reached = h["t"][np.argmax(speed >= 0.99 * TARGET_MPS)]
+    assert t2 < reached < t2 + 2.0
+    assert_allclose(speed[-1], TARGET_MPS, rtol=0.005)
 
 
 @pytest.fixture(scope="module")

@@ -90,7 +90,7 @@ OVERRIDES = {
     "no friction": "friction: null",
     "road": "road: !CosineBump {start_x_m: -0.5, length_m: 1.5, height_m: 0.02}",
     "drive reaction": "drive: !PrescribedRotation {reaction: knuckle}",
-    "open differential": "drive: !OpenDifferential {}",
+    "the paper's drive": "drive: !PrescribedRotation {}",
     "speed-up": "manoeuvre: !LaneChange {timeline: {speed_up_s: 2.0}}",
     "equilibrium settle time": "simulator: {equilibrium_settle_s: 3.0}",
     "equilibrium step": "simulator: {equilibrium_time_step_s: 0.0005}",

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 from pydrake.multibody.tree import LinearSpringDamper, PdControllerGains
 
+from drake_car.model.anti_roll_bar import arm_rates
 from drake_car.model.geometry import SIDES
 from drake_car.model.kinematics import LOOP_CLOSURES, SuspensionKinematics
 from drake_car.model.loading import ModelSource, frame_point, load_car
@@ -46,6 +47,8 @@ class CarModel:
     top_mount_actuators: list = dataclasses.field(default_factory=list)
     # The front wheels' drive actuators (model.drive), when the car drives.
     drive_actuators: list = dataclasses.field(default_factory=list)
+    # (axle, side) -> wheel-centre travel per arm angle at design (model.anti_roll_bar).
+    arm_rates: dict = dataclasses.field(default_factory=dict)
 
     def joint(self, name):
         return self.plant.GetJointByName(name, self.instance)
@@ -69,6 +72,15 @@ def model_source(params: CarParameters, model_path=None) -> ModelSource:
 
 
 _SPRING_CACHE = {}
+_RATE_CACHE = {}
+
+
+def cached_arm_rates(params, source):
+    """``model.anti_roll_bar.arm_rates``, cached per (parameters, model file)."""
+    key = (repr(params), source.text, str(source.path))
+    if key not in _RATE_CACHE:
+        _RATE_CACHE[key] = arm_rates(params, source)
+    return _RATE_CACHE[key]
 
 
 def spring_settings(params: CarParameters, source: ModelSource):
@@ -138,9 +150,12 @@ def add_car(plant, params: CarParameters | None = None, *, model_path=None,
                 actuator = plant.AddJointActuator(name, plant.GetJointByName(name, instance))
                 actuator.set_controller_gains(gains)
                 mount_actuators.append(actuator)
+    rates = cached_arm_rates(params, source) if (
+        params.front.anti_roll_bar_Nm_per_rad > 0 or params.rear.anti_roll_bar_Nm_per_rad > 0) \
+        else {}
     return CarModel(params=params, plant=plant, instance=instance, source=source,
                     springs=springs, rack_actuator=rack_actuator,
-                    top_mount_actuators=mount_actuators)
+                    top_mount_actuators=mount_actuators, arm_rates=rates)
 
 
 def strut_overlap(car: CarModel, context, side):

@@ -48,3 +48,13 @@ def open_differential_gain(plant, car, *, speed_gain_Nm_per_mps):
     row[nx] = speed_gain_Nm_per_mps
     row[nx + 1] = mass * radius
     return np.vstack([0.5 * row, 0.5 * row])
+
+
+def differential_speed_gain(plant, car):
+    """The row vector giving the differential's mean speed (rad/s): (ω_fl + ω_fr) / 2 from
+    the plant's state."""
+    row = np.zeros((1, plant.num_multibody_states()))
+    for side in SIDES:
+        v_index = plant.num_positions() + car.joint(f"wheel_front_{side}_spin").velocity_start()
+        row[0, v_index] = 0.5
+    return row

@@ -159,6 +159,17 @@ class SuspensionKinematics:
         return CornerState(side, travel_m, camber, -s * steer, steer, caster, kingpin,
                            strut_length, overlap, float(np.max(np.abs(self.closure_residual(side)))))
 
+    def joint_rate(self, axle, side, joint_name, delta=1e-3):
+        """d(joint position)/d(wheel-centre travel) at the design position (rad/m or m/m),
+        by central differences on the closed loops."""
+        joint = self.plant.GetJointByName(joint_name, self.instance)
+        values = []
+        for travel in (-delta, delta):
+            self.solve(axle, side, travel)
+            values.append(self.q[joint.position_start()])
+        self.solve(axle, side, 0.0)
+        return (values[1] - values[0]) / (2 * delta)
+
     def spring_length(self, axle, side):
         prefix = "" if axle == "front" else "rear_"
         return float(np.linalg.norm(self._point(f"{prefix}spring_upper_seat_{side}")

@@ -11,7 +11,8 @@ Sections, each a loadable dataclass with a ``check()`` that names a bad key:
 - ``road``: ``!Flat`` (default), ``!CosineBump`` or ``!SampledProfile`` (``law.road``);
 - ``manoeuvre``: ``!LaneChange`` (default), ``!Straight``, ``!Settle``, ``!RampSteer``,
   ``!StepSteer`` (``scene.manoeuvres``);
-- ``drive``: ``!PrescribedRotation`` (the paper's) or ``!OpenDifferential``;
+- ``drive``: ``!OpenDifferential`` (default: one torque split equally) or
+  ``!PrescribedRotation`` (the paper's: both front wheels' rotation prescribed);
 - ``plant``: Drake's ``MultibodyPlantConfig`` (the time step; the car needs SAP);
 - ``simulator``: end time, initial state, the SAP pacer, the divergence monitor's period;
 - ``logging``: which channel groups are logged, how often;
@@ -137,13 +138,24 @@ class OpenDifferential:
     # [EST] the 1.9 l Escort's ~150 N m through first gear (3.23) and final drive (3.59):
     # 1740 N m at the wheels; the tyres' grip limits the launch first.
     max_wheel_torque_Nm: float = 1740.0
+    # [EST] the engine's rev limit as a governor: above ``rev_limit_ratio`` times the wheel
+    # speed of the manoeuvre's top speed, the differential's mean speed is pulled back with
+    # ``governor_gain_Nm_per_radps`` (an open differential sends the torque to a lifted wheel,
+    # which would otherwise spin up without bound). Explicit: stable for dt < 2 I / K (12 ms).
+    rev_limit_ratio: float = 1.3
+    governor_gain_Nm_per_radps: float = 100.0
 
     def check(self):
-        positive(self, "speed_gain_Nm_per_mps", "max_wheel_torque_Nm")
+        positive(self, "speed_gain_Nm_per_mps", "max_wheel_torque_Nm",
+                 "governor_gain_Nm_per_radps")
+        if not 1.0 < self.rev_limit_ratio <= 3.0:
+            raise ParameterError("rev_limit_ratio", self.rev_limit_ratio, "must lie in (1, 3]")
         return self
 
 
-Drive = typing.Union[PrescribedRotation, OpenDifferential]
+# The default (first) is the physical one: a front-drive car has an open differential. The
+# paper's prescribed rotation locks the front axle (about 3 deg/g of understeer on this car).
+Drive = typing.Union[OpenDifferential, PrescribedRotation]
 
 
 @dataclasses.dataclass
@@ -247,7 +259,7 @@ class Scene:
     tyres: Tyres = dataclasses.field(default_factory=MagicFormula)
     road: Road = dataclasses.field(default_factory=Flat)
     manoeuvre: Manoeuvre = dataclasses.field(default_factory=LaneChange)
-    drive: Drive = dataclasses.field(default_factory=PrescribedRotation)
+    drive: Drive = dataclasses.field(default_factory=OpenDifferential)
     plant: MultibodyPlantConfig = dataclasses.field(default_factory=default_plant_config)
     simulator: Simulator = dataclasses.field(default_factory=Simulator)
     logging: Logging = dataclasses.field(default_factory=Logging)

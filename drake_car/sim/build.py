@@ -5,21 +5,26 @@ systems and wiring, loggers, visualiser, Build)."""
 import dataclasses
 
 import numpy as np
+from pydrake.common.value import AbstractValue
 from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
-from pydrake.systems.framework import DiagramBuilder
+from pydrake.systems.framework import DiagramBuilder, InputPortIndex
 from pydrake.systems.primitives import (
-    LogVectorOutput, MatrixGain, Multiplexer, Saturation, TrajectorySource)
+    Adder, ConstantVectorSource, LogVectorOutput, MatrixGain, Multiplexer, PortSwitch,
+    Saturation, TrajectorySource)
 
 from drake_car.law.magic_formula import MagicFormulaTyre
 from drake_car.law.tyre_contact import RadialTyre
+from drake_car.model.anti_roll_bar import anti_roll_bar_gain, time_step_limit_s
 from drake_car.model.car import add_car
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
-from drake_car.model.drive import add_drive_actuators, open_differential_gain, rolling_radius
+from drake_car.model.drive import (
+    add_drive_actuators, differential_speed_gain, open_differential_gain, rolling_radius)
 from drake_car.model.loading import tir_path
 from drake_car.model.struts import (
     declare_strut_friction, make_strut_friction, reference_time_step_limit_s)
 from drake_car.scene.load import channels_of, check_scene
-from drake_car.scene.manoeuvres import speed_trajectory, wheel_rotation_trajectory
+from drake_car.scene.manoeuvres import (
+    LaneChange, speed_trajectory, wheel_rotation_trajectory)
 from drake_car.scene.scene import (
     LinearTyre, MagicFormula, OpenDifferential, PrescribedRotation, Scene)
 from drake_car.sim.actuation import ActuationWiring
@@ -45,12 +50,25 @@ class CarDiagram:
     loggers: dict = dataclasses.field(default_factory=dict)  # group -> VectorLogSink
     log_columns: dict = dataclasses.field(default_factory=dict)  # group -> column names
     velocity_logger: object = None  # the car's state every step (frozen-step count)
+    case_port: object = None  # the Diagram's input selecting the lane change's case, or None
 
     def plant_context(self, root_context):
         return self.plant.GetMyContextFromRoot(root_context)
 
+    def select_case(self, root_context, case):
+        """A branchable Diagram's lane-change case (a value fixed in the context)."""
+        # The switch's input 0 is its selector; the cases' commands are its inputs 1 and 2.
+        self.case_port.FixValue(root_context,
+                                AbstractValue.Make(InputPortIndex(1 + CASES.index(case))))
 
-def build_diagram(scene: Scene, *, meshcat=None) -> CarDiagram:
+
+CASES = ("a", "b")
+
+
+def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram:
+    """The scene's Diagram. ``branchable`` (lane changes only): both cases' rack commands
+    behind a switch whose selection is a value of the context (``select_case``), so runs that
+    differ only in the case can continue one saved context (``sim.branch``)."""
     check_scene(scene)
     builder = DiagramBuilder()
     # 1. The plant and the car, then every actuator the scene needs, before Finalize.
@@ -76,11 +94,19 @@ def build_diagram(scene: Scene, *, meshcat=None) -> CarDiagram:
     if pacer is not None:
         connect_sap_pacer(builder, plant, pacer)
 
-    # 2. Tyres: forces on the wheels from their poses and velocities.
+    # 2. Anti-roll bars: the arms' angles coupled left to right (a matrix, no Python).
+    bars = anti_roll_bar_gain(plant, car, car.arm_rates) if car.arm_rates else None
+    if bars is not None:
+        bar = builder.AddSystem(MatrixGain(bars))
+        bar.set_name("anti_roll_bars")
+        builder.Connect(plant.get_state_output_port(), bar.get_input_port())
+        builder.Connect(bar.get_output_port(), plant.get_applied_generalized_force_input_port())
+
+    # 3. Tyres: forces on the wheels from their poses and velocities.
     tyre = _add_tyres(builder, plant, car, scene)
     applied = [tyre.GetOutputPort("tyre_forces")]
 
-    # 3. Strut friction: reactions in, PD targets and feed-forward out.
+    # 4. Strut friction: reactions in, PD targets and feed-forward out.
     friction = None
     if declarations is not None:
         friction = builder.AddSystem(make_strut_friction(
@@ -89,16 +115,32 @@ def build_diagram(scene: Scene, *, meshcat=None) -> CarDiagram:
         wiring.connect("friction", desired=friction.desired_state_output_port(),
                        feedforward=friction.actuation_output_port())
 
-    # 4. Drive: the speed profile through the front wheels, torque reacted by the body.
+    # 5. Drive: the speed profile through the front wheels, torque reacted by the body.
     if drives:
         applied += _add_drive(builder, plant, car, scene, wiring)
 
-    # 5. Steering: the rack servo follows the manoeuvre's rack trajectory.
-    rack = builder.AddSystem(TrajectorySource(scene.manoeuvre.rack(), 1))
-    rack.set_name("rack_command")
-    wiring.connect("rack", desired=rack.get_output_port(0))
+    # 6. Steering: the rack servo follows the manoeuvre's rack trajectory.
+    case_port = None
+    if branchable:
+        if not isinstance(scene.manoeuvre, LaneChange):
+            raise ValueError("build_diagram: only lane changes are branchable")
+        switch = builder.AddSystem(PortSwitch(2))
+        switch.set_name("lane_change_case")
+        for case in CASES:
+            source = builder.AddSystem(TrajectorySource(
+                dataclasses.replace(scene.manoeuvre, case=case).rack(), 1))
+            source.set_name(f"rack_command_{case}")
+            builder.Connect(source.get_output_port(0), switch.DeclareInputPort(f"case_{case}"))
+        case_index = builder.ExportInput(switch.get_port_selector_input_port(),
+                                         "lane_change_case")
+        rack_port = switch.get_output_port(0)
+    else:
+        rack = builder.AddSystem(TrajectorySource(scene.manoeuvre.rack(), 1))
+        rack.set_name("rack_command")
+        rack_port = rack.get_output_port(0)
+    wiring.connect("rack", desired=rack_port)
 
-    # 6. Everything into the plant.
+    # 7. Everything into the plant.
     wiring.finish(builder)
     if len(applied) == 1:
         builder.Connect(applied[0], plant.get_applied_spatial_force_input_port())
@@ -109,13 +151,13 @@ def build_diagram(scene: Scene, *, meshcat=None) -> CarDiagram:
             builder.Connect(port, combine.get_input_port(i))
         builder.Connect(combine.get_output_port(0), plant.get_applied_spatial_force_input_port())
 
-    # 7. Loggers: one per channel group asked for; the car's state every step.
+    # 8. Loggers: one per channel group asked for; the car's state every step.
     loggers, columns = _add_loggers(builder, plant, car, tyre, friction, pacer, scene)
     velocity_logger = LogVectorOutput(plant.get_state_output_port(car.instance), builder,
                                       scene.time_step_s)
     velocity_logger.set_name("car_state_every_step")
 
-    # 8. Visualiser.
+    # 9. Visualiser.
     if meshcat is not None:
         from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams, Role
         period = 1.0 / getattr(scene.visualization, "frames_per_second", 32.0)
@@ -124,14 +166,21 @@ def build_diagram(scene: Scene, *, meshcat=None) -> CarDiagram:
             MeshcatVisualizerParams(role=Role.kIllustration, publish_period=period))
     diagram = builder.Build()
     diagram.set_name("car")
+    if branchable:
+        case_port = diagram.get_input_port(case_index)
     return CarDiagram(scene=scene, diagram=diagram, plant=plant, scene_graph=scene_graph,
                       car=car, tyre=tyre, friction=friction, pacer=pacer, loggers=loggers,
-                      log_columns=columns, velocity_logger=velocity_logger)
+                      log_columns=columns, velocity_logger=velocity_logger,
+                      case_port=case_port)
 
 
 def check_stability(scene):
-    """Refuses (BuildError) a step above the stability limit of a scheme with an explicit part:
-    the reference friction scheme (here) and the tyres (when they are built)."""
+    """Refuses (BuildError) a step above the stability limit of a part applied explicitly: the
+    anti-roll bars and the reference friction scheme (here), the tyres (when they are built)."""
+    bar_limit = time_step_limit_s(scene.car)
+    if scene.time_step_s > bar_limit:
+        raise BuildError(f"plant.time_step = {scene.time_step_s:g} s is above the anti-roll "
+                         f"bars' explicit stability limit {bar_limit:.2g} s")
     if scene.friction is None or scene.friction.scheme != "reference":
         return
     limit = reference_time_step_limit_s(scene.car, scene.friction.law)
@@ -196,7 +245,8 @@ def _add_drive(builder, plant, car, scene, wiring):
         clamp.set_name("drive_torque_limit")
         builder.Connect(stack.get_output_port(0), gain.get_input_port())
         builder.Connect(gain.get_output_port(), clamp.get_input_port())
-        wiring.connect("drive", feedforward=clamp.get_output_port())
+        torque = _add_governor(builder, plant, car, scene, drive, clamp.get_output_port())
+        wiring.connect("drive", feedforward=torque)
         reacted_by_body = True
     if not reacted_by_body:
         return []
@@ -208,6 +258,31 @@ def _add_drive(builder, plant, car, scene, wiring):
                     shafts.GetInputPort("net_actuation"))
     builder.Connect(plant.get_body_poses_output_port(), shafts.GetInputPort("body_poses"))
     return [shafts.GetOutputPort("reaction_forces")]
+
+
+def _add_governor(builder, plant, car, scene, drive, torque):
+    """The rev limit: each wheel's torque less K/2 max(0, ω_diff - ω_limit)."""
+    speed = builder.AddSystem(MatrixGain(differential_speed_gain(plant, car)))
+    speed.set_name("differential_speed")
+    builder.Connect(plant.get_state_output_port(), speed.get_input_port())
+    top = scene.manoeuvre.timeline.speed_mps / rolling_radius(scene.car)
+    offset = builder.AddSystem(ConstantVectorSource([-drive.rev_limit_ratio * top]))
+    offset.set_name("rev_limit")
+    over = builder.AddSystem(Adder(2, 1))
+    over.set_name("overspeed")
+    builder.Connect(speed.get_output_port(), over.get_input_port(0))
+    builder.Connect(offset.get_output_port(0), over.get_input_port(1))
+    positive = builder.AddSystem(Saturation([0.0], [np.inf]))
+    positive.set_name("overspeed_positive")
+    builder.Connect(over.get_output_port(0), positive.get_input_port())
+    pull = builder.AddSystem(MatrixGain(np.full((2, 1), -0.5 * drive.governor_gain_Nm_per_radps)))
+    pull.set_name("governor")
+    builder.Connect(positive.get_output_port(), pull.get_input_port())
+    total = builder.AddSystem(Adder(2, 2))
+    total.set_name("drive_torque")
+    builder.Connect(torque, total.get_input_port(0))
+    builder.Connect(pull.get_output_port(), total.get_input_port(1))
+    return total.get_output_port(0)
 
 
 def _add_loggers(builder, plant, car, tyre, friction, pacer, scene):

@@ -46,6 +46,16 @@ class Monitor:
         self.stats = MonitorStats()
         self._last_v = None
 
+    @property
+    def last_velocities(self):
+        """The last logged step's velocities (to resume a count in a branch)."""
+        return None if self._last_v is None else self._last_v.copy()
+
+    def resume(self, stats, last_velocities):
+        """Continue a count made by another monitor (a branched run's prefix)."""
+        self.stats = dataclasses.replace(stats)
+        self._last_v = last_velocities
+
     def check(self, root_context):
         """Counts the frozen steps since the last check, then checks the state."""
         if self._logger is not None:

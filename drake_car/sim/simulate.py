@@ -87,59 +87,94 @@ def simulate(scene: Scene, *, progress=False, meshcat=None) -> Run:
     """Runs ``scene``; ``progress`` shows a bar of the simulated time on stderr. A scene with
     ``MeshcatLive`` or ``MeshcatReplay`` visualisation starts a Meshcat server on localhost
     unless ``meshcat`` is given."""
-    check_scene(scene)
-    visual = scene.visualization
-    if isinstance(visual, (MeshcatLive, MeshcatReplay)) and meshcat is None:
-        from drake_car.sim.replay import start_meshcat
-        meshcat = start_meshcat()
-        if isinstance(visual, MeshcatLive):
-            print(f"Meshcat: {meshcat.web_url()}", file=sys.stderr)
-    elif not isinstance(visual, (MeshcatLive, MeshcatReplay)):
-        meshcat = None
-    built = build_diagram(scene, meshcat=meshcat)
-    simulator = Simulator(built.diagram)
-    simulator.set_target_realtime_rate(
-        visual.realtime_rate if isinstance(visual, MeshcatLive) else 0.0)
-    root = simulator.get_mutable_context()
-    _set_initial_state(built, root, scene)
-    end = scene.end_time_s
-    estimate = estimate_wall_s(scene)
-    if progress and estimate > ANNOUNCE_WALL_S:
-        print(f"{scene.name}: {end:g} s at {scene.time_step_s:g} s steps, about "
-              f"{estimate / 60:.0f} min of wall time", file=sys.stderr)
-    recorder = None
-    if isinstance(visual, MeshcatReplay):
-        from drake_car.sim.replay import ReplayRecorder
-        recorder = ReplayRecorder(meshcat, built, visual)
-    monitor = Monitor(built.plant, built.diagram, state_logger=built.velocity_logger,
-                      instance=built.car.instance)
-    simulator.Initialize()
-    bar = _progress_bar(scene, end) if progress else None
-    period = scene.simulator.monitor_period_s
-    chunks = max(1, int(np.ceil(end / period - 1e-9)))
-    began = time.perf_counter()
-    try:
-        for k in range(1, chunks + 1):
-            target = min(k * period, end)
-            simulator.AdvanceTo(target)
-            monitor.check(root)
-            if recorder is not None:
-                recorder.frame(root)
+    runner = Runner(scene, progress=progress, meshcat=meshcat)
+    runner.start()
+    runner.advance_to(scene.end_time_s)
+    return runner.finish()
+
+
+class Runner:
+    """One simulation of a scene, advanced in the monitor's chunks: ``start()`` sets the
+    initial state and initializes, ``advance_to(t)`` runs (any number of times), ``finish()``
+    returns the Run. ``sim.branch`` starts a runner from another runner's saved context."""
+
+    def __init__(self, scene: Scene, *, progress=False, meshcat=None, branchable=False,
+                 built=None, context=None):
+        """``branchable``: build the Diagram so that other cases can continue its context
+        (``sim.branch``); ``built`` and ``context``: continue such a Diagram's saved context
+        with this scene's case instead of building anew."""
+        check_scene(scene)
+        self.scene = scene
+        visual = scene.visualization
+        shows = isinstance(visual, (MeshcatLive, MeshcatReplay))
+        if shows and meshcat is None:
+            from drake_car.sim.replay import start_meshcat
+            meshcat = start_meshcat()
+            if isinstance(visual, MeshcatLive):
+                print(f"Meshcat: {meshcat.web_url()}", file=sys.stderr)
+        self.built = built or build_diagram(scene, meshcat=meshcat if shows else None,
+                                            branchable=branchable)
+        if context is None:
+            self.simulator = Simulator(self.built.diagram)
+        else:
+            self.simulator = Simulator(self.built.diagram, context)
+        if self.built.case_port is not None:
+            self.built.select_case(self.simulator.get_mutable_context(), scene.manoeuvre.case)
+        self.simulator.set_target_realtime_rate(
+            visual.realtime_rate if isinstance(visual, MeshcatLive) else 0.0)
+        self.root = self.simulator.get_mutable_context()
+        self.recorder = None
+        if isinstance(visual, MeshcatReplay):
+            from drake_car.sim.replay import ReplayRecorder
+            self.recorder = ReplayRecorder(meshcat, self.built, visual)
+        self.monitor = Monitor(self.built.plant, self.built.diagram,
+                               state_logger=self.built.velocity_logger,
+                               instance=self.built.car.instance)
+        self.progress = progress
+        self.wall_s = 0.0
+
+    def start(self):
+        """The scene's initial state, then Drake's initialization events."""
+        _set_initial_state(self.built, self.root, self.scene)
+        estimate = estimate_wall_s(self.scene)
+        if self.progress and estimate > ANNOUNCE_WALL_S:
+            print(f"{self.scene.name}: {self.scene.end_time_s:g} s at "
+                  f"{self.scene.time_step_s:g} s steps, about {estimate / 60:.0f} min of wall "
+                  "time", file=sys.stderr)
+        self.simulator.Initialize()
+
+    def advance_to(self, end):
+        period = self.scene.simulator.monitor_period_s
+        now = self.root.get_time()
+        first = int(np.floor(now / period + 1e-9)) + 1
+        last = max(first, int(np.ceil(end / period - 1e-9)))
+        bar = _progress_bar(self.scene, self.scene.end_time_s, now) if self.progress else None
+        began = time.perf_counter()
+        try:
+            for k in range(first, last + 1):
+                target = min(k * period, end)
+                self.simulator.AdvanceTo(target)
+                self.monitor.check(self.root)
+                if self.recorder is not None:
+                    self.recorder.frame(self.root)
+                if bar is not None:
+                    bar.update(target - bar.n)
+        finally:
+            self.wall_s += time.perf_counter() - began
             if bar is not None:
-                bar.update(target - bar.n)
-    finally:
-        if bar is not None:
-            bar.close()
-    wall = time.perf_counter() - began
-    history = logged_history(built, root)
-    history["phase"] = [scene.manoeuvre.phase(t) for t in history["t"]]
-    html = recorder.finish() if recorder is not None else None
-    dot = built.diagram.GetGraphvizString(max_depth=1, options={"plant/split": "I/O"})
-    return Run(scene=scene, history=history, wall_s=wall,
-               frozen_sap_steps=monitor.stats.frozen_steps,
-               first_frozen_sap_step_s=monitor.stats.first_frozen_time_s,
-               steps=monitor.stats.steps, final=final_state(built, root), diagram_dot=dot,
-               replay_html=html)
+                bar.close()
+
+    def finish(self) -> Run:
+        built, root, scene = self.built, self.root, self.scene
+        history = logged_history(built, root)
+        history["phase"] = [scene.manoeuvre.phase(t) for t in history["t"]]
+        html = self.recorder.finish() if self.recorder is not None else None
+        dot = built.diagram.GetGraphvizString(max_depth=1, options={"plant/split": "I/O"})
+        stats = self.monitor.stats
+        return Run(scene=scene, history=history, wall_s=self.wall_s,
+                   frozen_sap_steps=stats.frozen_steps,
+                   first_frozen_sap_step_s=stats.first_frozen_time_s, steps=stats.steps,
+                   final=final_state(built, root), diagram_dot=dot, replay_html=html)
 
 
 def static_equilibrium(scene: Scene) -> Equilibrium:
@@ -162,26 +197,29 @@ def _set_initial_state(built, root, scene):
                        np.asarray(start.positions))
 
 
-def _progress_bar(scene, end):
+def _progress_bar(scene, end, now=0.0):
     from tqdm import tqdm
-    return tqdm(total=end, desc=scene.name, unit="s sim", file=sys.stderr, leave=False,
-                disable=None, mininterval=0.5,
+    return tqdm(total=end, initial=now, desc=scene.name, unit="s sim", file=sys.stderr,
+                leave=False, disable=None, mininterval=0.5,
                 bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} s "
                            "[{elapsed}<{remaining}]")
 
 
 def logged_history(built, root_context):
-    """Columns of every logger of ``built``, with their sample times "t"."""
+    """Columns of every logger of ``built``, with their sample times "t". A sample repeated at
+    the same time (a branched run's loggers sample again when its simulator starts at the
+    branch time, ``sim.branch``) is kept once."""
     history = {}
     for group, logger in built.loggers.items():
         log = logger.FindLog(root_context)
-        times = log.sample_times()
-        if "t" in history and not np.array_equal(history["t"], times):
+        times = np.array(log.sample_times())
+        keep = np.concatenate([[True], np.diff(times) > 0]) if times.size else times > 0
+        if "t" in history and not np.array_equal(history["t"], times[keep]):
             raise RuntimeError(f"logger of {group} sampled at other times than the others")
-        history["t"] = np.array(times)
+        history["t"] = times[keep]
         data = log.data()
         for row, name in enumerate(built.log_columns[group]):
-            history[name] = np.array(data[row])
+            history[name] = np.array(data[row])[keep]
     if "t" not in history:
         period = built.scene.logging.record_period_s
         history["t"] = np.arange(int(round(built.scene.end_time_s / period)) + 1) * period

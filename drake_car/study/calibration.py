@@ -29,7 +29,7 @@ def lane_change_metrics(history, timeline):
             "final_shift_m": float(y[-1] - y[i3])}
 
 
-def calibrate_lane_change(scene: Scene, *, shift_m=3.7, tolerance_m=0.005,
+def calibrate_lane_change(scene: Scene, *, shift_m=3.7, tolerance_m=0.002,
                           heading_tolerance_deg=0.05, max_iterations=8, log=print):
     """Newton's method with finite differences on (amplitude, second lobe), starting from the
     scene's lane change (case a). Returns the calibrated LaneChange and the iteration log."""

@@ -165,6 +165,7 @@ class StrutFriction(LeafSystem):
         if len(set(labels)) != len(labels):
             raise ValueError(f"{name}: strut labels {labels} must be distinct")
         params.check()
+        self.set_name(name)
         self._name = name
         self._params = params
         self._scheme = scheme
