@@ -119,3 +119,17 @@ def test_steady_cornering_understeer_gradient():
           f"(tyres alone {tyre_only * to_deg_per_g:.2f} deg/g)")
     assert tyre_only > 0
     assert tyre_only < gradient < math.radians(8.0) / GRAVITY_MPS2
+
+
+def test_hands_off_a_symmetric_car_keeps_its_heading():
+    """Let go of the rack while driving straight at 60 km/h: the lubricated, symmetric car's
+    steering stays centred by the tyres' aligning moments and the caster (the column's
+    friction holds it), and the heading changes by less than 0.05 deg over 3 s (50 m): no pull
+    without an asymmetry. A steering wheel that ran away would turn it by degrees."""
+    scene = car_scene("straight", "steering: !HandsOff {release_s: 6.0}\n"
+                                  "manoeuvre: !Straight {timeline: {straight_s: 4.0, steer_s: "
+                                  "1.0, calm_s: 1.0}}")
+    h = simulate(scene).history
+    after = h["t"] >= 6.0
+    assert abs(np.degrees(h["yaw_rad"][after][-1] - h["yaw_rad"][after][0])) < 0.05
+    assert np.max(np.abs(h["rack_m"][after])) < 1e-3

@@ -94,6 +94,7 @@ OVERRIDES = {
     "speed-up": "manoeuvre: !LaneChange {timeline: {speed_up_s: 2.0}}",
     "equilibrium settle time": "simulator: {equilibrium_settle_s: 3.0}",
     "equilibrium step": "simulator: {equilibrium_time_step_s: 0.0005}",
+    "hands off": "steering: !HandsOff {release_s: 1.0}",
 }
 
 

@@ -20,7 +20,7 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 from drake_car.data import resource
 from drake_car.law.checks import ParameterError, checked
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
-from drake_car.scene.scene import Scene, default_plant_config
+from drake_car.scene.scene import HandsOff, Scene, default_plant_config
 
 # Every channel group a scene can log.
 CHANNEL_GROUPS = ("chassis", "steering", "struts", "tyres", "friction", "energy", "top_mounts")
@@ -140,6 +140,12 @@ def check_scene(scene: Scene, where="scene") -> Scene:
     return scene
 
 
+def hands_off_release_s(scene: Scene):
+    """When a !HandsOff scene lets go of the rack (s)."""
+    release = scene.steering.release_s
+    return scene.manoeuvre.timeline.boundaries()[2] if release is None else release
+
+
 def available_channels(scene: Scene):
     """The channel groups this scene has."""
     groups = ["chassis", "steering", "struts", "tyres", "energy"]
@@ -204,6 +210,14 @@ def _check_cross(scene: Scene):
     if sim.monitor_period_s < scene.time_step_s:
         raise ParameterError("simulator.monitor_period_s", sim.monitor_period_s,
                              f"must be >= plant.time_step = {scene.time_step_s:g} s")
+    steering = scene.steering
+    if isinstance(steering, HandsOff):
+        if not m.drives:
+            raise ParameterError("steering", "HandsOff", "needs a driving manoeuvre")
+        release = hands_off_release_s(scene)
+        if not 0 < release < end:
+            raise ParameterError("steering.release_s", release,
+                                 f"must lie inside the run (0, {end:g}) s")
     if isinstance(m, Settle) and scene.drive != Scene().drive:
         raise ParameterError("drive", type(scene.drive).__name__,
                              "has no effect on a Settle manoeuvre (no drive); leave it out")

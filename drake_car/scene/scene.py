@@ -13,6 +13,7 @@ Sections, each a loadable dataclass with a ``check()`` that names a bad key:
   ``!StepSteer`` (``scene.manoeuvres``);
 - ``drive``: ``!OpenDifferential`` (default: one torque split equally) or
   ``!PrescribedRotation`` (the paper's: both front wheels' rotation prescribed);
+- ``steering``: ``!HeldRack`` (default: the rack follows the command) or ``!HandsOff``;
 - ``plant``: Drake's ``MultibodyPlantConfig`` (the time step; the car needs SAP);
 - ``simulator``: end time, initial state, the SAP pacer, the divergence monitor's period;
 - ``logging``: which channel groups are logged, how often;
@@ -159,6 +160,45 @@ Drive = typing.Union[OpenDifferential, PrescribedRotation]
 
 
 @dataclasses.dataclass
+class HeldRack:
+    """The driver's hands: a stiff servo holds the rack on the manoeuvre's command."""
+
+    def check(self):
+        return self
+
+
+@dataclasses.dataclass
+class HandsOff:
+    """The rack held on the manoeuvre's command until ``release_s`` (None: the start of phase
+    IV, after the manoeuvre), then free: the steering wheel's inertia through the rack gain,
+    the steering system's friction, and the tyres' and the suspension's own centring
+    (aligning moments, caster and kingpin) move it, so a load imbalance shows as a drift of
+    the car's heading."""
+
+    release_s: typing.Optional[float] = None
+    # [EST] steering wheel and column about the column: a 0.38 m wheel of ~1.4 kg rim and hub.
+    steering_wheel_inertia_kgm2: float = 0.04
+    # [EST] rack travel per steering-wheel radian: ~0.07 m of rack over 1.4 turns to lock.
+    rack_gain_m_per_rad: float = 0.008
+    # [EST] static friction of the unassisted column and rack at the steering wheel; a dry
+    # contact (the FRD law, μd/μs = 0.8).
+    friction_torque_Nm: float = 1.0
+
+    def check(self):
+        positive(self, "steering_wheel_inertia_kgm2", "rack_gain_m_per_rad")
+        nonnegative(self, "friction_torque_Nm")
+        if self.release_s is not None:
+            positive(self, "release_s")
+        if not 0.002 <= self.rack_gain_m_per_rad <= 0.05:
+            raise ParameterError("rack_gain_m_per_rad", self.rack_gain_m_per_rad,
+                                 "must lie in [0.002, 0.05] m/rad (passenger-car steering)")
+        return self
+
+
+Steering = typing.Union[HeldRack, HandsOff]
+
+
+@dataclasses.dataclass
 class Simulator:
     """``end_time_s``: None runs the whole manoeuvre; a value stops earlier. ``start``:
     static_equilibrium (at rest where the lubricated car settles on its tyres, as a multibody
@@ -260,6 +300,7 @@ class Scene:
     road: Road = dataclasses.field(default_factory=Flat)
     manoeuvre: Manoeuvre = dataclasses.field(default_factory=LaneChange)
     drive: Drive = dataclasses.field(default_factory=OpenDifferential)
+    steering: Steering = dataclasses.field(default_factory=HeldRack)
     plant: MultibodyPlantConfig = dataclasses.field(default_factory=default_plant_config)
     simulator: Simulator = dataclasses.field(default_factory=Simulator)
     logging: Logging = dataclasses.field(default_factory=Logging)

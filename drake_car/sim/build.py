@@ -20,15 +20,19 @@ from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import (
     add_drive_actuators, differential_speed_gain, open_differential_gain, rolling_radius)
 from drake_car.model.loading import tir_path
+from drake_car.model.steering import (
+    COLUMN_LAW, add_steering_column, column_strut, release_schedule)
 from drake_car.model.struts import (
     declare_strut_friction, make_strut_friction, reference_time_step_limit_s)
-from drake_car.scene.load import channels_of, check_scene
+from drake_car.scene.load import channels_of, check_scene, hands_off_release_s
 from drake_car.scene.manoeuvres import (
     LaneChange, speed_trajectory, wheel_rotation_trajectory)
 from drake_car.scene.scene import (
-    LinearTyre, MagicFormula, OpenDifferential, PrescribedRotation, Scene)
+    HandsOff, LinearTyre, MagicFormula, OpenDifferential, PrescribedRotation, Scene)
 from drake_car.sim.actuation import ActuationWiring
 from drake_car.systems.driveshaft import DriveshaftReaction
+from drake_car.systems.gain_schedule import GainSchedule
+from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 from drake_car.systems.tyre import TyreSystem
 
@@ -89,6 +93,9 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
                                               scheme=scene.friction.scheme)
         wiring.add("friction", len(sum(declarations.values(), [])),
                    pd=scene.friction.scheme == "fast")
+    column_pairs = None
+    if isinstance(scene.steering, HandsOff):
+        column_pairs = add_steering_column(plant, car, scene.steering, scheme="fast")
     pacer = add_sap_pacer(plant) if scene.simulator.sap_pacer else None
     plant.Finalize()
     if pacer is not None:
@@ -139,6 +146,8 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
         rack.set_name("rack_command")
         rack_port = rack.get_output_port(0)
     wiring.connect("rack", desired=rack_port)
+    if column_pairs is not None:
+        _let_go(builder, plant, car, scene, column_pairs)
 
     # 7. Everything into the plant.
     wiring.finish(builder)
@@ -258,6 +267,23 @@ def _add_drive(builder, plant, car, scene, wiring):
                     shafts.GetInputPort("net_actuation"))
     builder.Connect(plant.get_body_poses_output_port(), shafts.GetInputPort("body_poses"))
     return [shafts.GetOutputPort("reaction_forces")]
+
+
+def _let_go(builder, plant, car, scene, column_pairs):
+    """Hands off: the rack servo lets go at the release time; the column's friction."""
+    release = builder.AddSystem(GainSchedule([car.rack_actuator],
+                                             release_schedule(hands_off_release_s(scene))))
+    release.set_name("hands_off")
+    if not column_pairs:
+        return
+    column = builder.AddSystem(StrutFriction(
+        plant, [column_strut(column_pairs, scene.steering)], COLUMN_LAW, scheme="fast",
+        name="steering_friction"))
+    column.connect(builder, plant)
+    instance = plant.GetModelInstanceByName("steering_column")
+    builder.Connect(column.desired_state_output_port(),
+                    plant.get_desired_state_input_port(instance))
+    builder.Connect(column.actuation_output_port(), plant.get_actuation_input_port(instance))
 
 
 def _add_governor(builder, plant, car, scene, drive, torque):

@@ -88,17 +88,17 @@ class Monitor:
             return
         v = data[self._nq_instance:, :]
         times = log.sample_times()
-        previous = self._last_v
-        for k in range(v.shape[1]):
-            current = v[:, k]
-            if previous is not None:
-                self.stats.steps += 1
-                if np.array_equal(current, previous):
-                    self.stats.frozen_steps += 1
-                    if self.stats.first_frozen_time_s is None:
-                        self.stats.first_frozen_time_s = float(times[k])
-            previous = current
-        self._last_v = previous.copy()
+        if self._last_v is not None:
+            v = np.hstack([self._last_v[:, None], v])
+            times = np.concatenate([[np.nan], times])
+        frozen = np.all(v[:, 1:] == v[:, :-1], axis=0)
+        self.stats.steps += int(frozen.size)
+        count = int(np.count_nonzero(frozen))
+        if count:
+            self.stats.frozen_steps += count
+            if self.stats.first_frozen_time_s is None:
+                self.stats.first_frozen_time_s = float(times[1:][frozen][0])
+        self._last_v = v[:, -1].copy()
         log.Clear()
 
 

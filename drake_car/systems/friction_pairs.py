@@ -36,6 +36,7 @@ class Strut:
     rod_radius_m: float = 0.011
     constant_normal_force_N: float | None = None
     initial_normal_force_N: float | None = None
+    params: object = None
 
 
 def declare_pairs(plant, prismatic=None, revolute=None, scheme="fast", prefix="friction"):

@@ -101,8 +101,9 @@ def explicit_time_step_limit_s(mass, normal, law):
 class _StrutData:
     """What the per-step computation needs of one strut, resolved once at construction."""
 
-    def __init__(self, strut: Strut, name):
+    def __init__(self, strut: Strut, name, params):
         self.label = strut.label
+        self.params = strut.params if strut.params is not None else params
         self.overlap = tuple(float(x) for x in strut.overlap_m)
         self.offset = tuple(float(x) for x in strut.moment_arm_offset_m)
         self.rod_radius = float(strut.rod_radius_m)
@@ -169,21 +170,23 @@ class StrutFriction(LeafSystem):
         self._name = name
         self._params = params
         self._scheme = scheme
-        self._struts = [_StrutData(s, name) for s in struts]
+        self._struts = [_StrutData(s, name, params) for s in struts]
         nq = plant.num_positions()
         # Flattened over the struts' pairs, in actuation order.
-        self._pairs, self._laws, self._strut_of = [], [], []
+        self._pairs, self._laws, self._strut_of, self._strut_params = [], [], [], []
         for k, strut in enumerate(struts):
             if not strut.pairs:
                 raise ValueError(f"{name}: strut '{strut.label}' has no friction pair")
+            law = (strut.params.check() if strut.params is not None else params)
             for pair in strut.pairs:
                 expected = PrismaticJoint if pair.kind == "translation" else RevoluteJoint
                 if not isinstance(pair.joint, expected):
                     raise TypeError(f"{name}: {pair.kind} pair needs a {expected.__name__}, "
                                     f"got {type(pair.joint).__name__} '{pair.joint.name()}'")
                 self._pairs.append(pair)
-                self._laws.append(params.translation() if pair.kind == "translation"
-                                  else params.rotation())
+                self._laws.append(law.translation() if pair.kind == "translation"
+                                  else law.rotation())
+                self._strut_params.append(law)
                 self._strut_of.append(k)
         self._labels = [struts[k].label for k in self._strut_of]
         self._q_index = [p.joint.position_start() for p in self._pairs]
@@ -279,8 +282,8 @@ class StrutFriction(LeafSystem):
         return normal_force(
             (fx - f_axial * ux, fy - f_axial * uy, fz - f_axial * uz),
             (mx - m_axial * ux, my - m_axial * uy, mz - m_axial * uz),
-            overlap, self._params.preload_force_N, self._params.mu_s,
-            self._params.normal_force_form, axis=strut.axis)
+            overlap, strut.params.preload_force_N, strut.params.mu_s,
+            strut.params.normal_force_form, axis=strut.axis)
 
     def _initialize(self, context, discrete_state):
         # Memory: no creep, static, at the initial positions; then the step's values from it.
@@ -304,7 +307,6 @@ class StrutFriction(LeafSystem):
         reactions = (self._reaction_port.Eval(context) if self._reaction_port is not None
                      else None)
         normals = [self._normal_force(x, s, reactions, t, initial) for s in self._struts]
-        params = self._params
         fast = self._scheme == "fast"
         n = len(self._pairs)
         new_creep, new_phase, new_q = [0.0] * n, [0.0] * n, [0.0] * n
@@ -321,9 +323,10 @@ class StrutFriction(LeafSystem):
             mu, beta, mu1, _ = friction_coefficient(v, creep, law)
             # What μ multiplies: N for the translation pair (eq. 5, N with F0/μs of eq. 4),
             # N r + M0/μs for the rotation pair (eq. 6).
+            law_params = self._strut_params[i]
             scale = (friction_force(1.0, normal) if pair.kind == "translation" else
-                     friction_moment(1.0, normal, strut.rod_radius, params.preload_moment_Nm,
-                                     params.mu_s))
+                     friction_moment(1.0, normal, strut.rod_radius,
+                                     law_params.preload_moment_Nm, law_params.mu_s))
             force = mu * scale
             diagnostics += [v, creep, beta, mu1, mu, phase, normal, force]
             if not fast:
