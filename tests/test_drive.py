@@ -11,6 +11,7 @@ from drake_car.data import resource
 from drake_car.law.magic_formula import MagicFormulaTyre, magic_formula
 from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
 from drake_car.model.drive import rolling_radius
+from drake_car.model.geometry import design_axle_loads_N
 from drake_car.scene.manoeuvres import Timeline, speed_profile
 from drake_car.sim.simulate import simulate
 from drake_car.study.calibration import lane_change_metrics
@@ -108,7 +109,7 @@ def test_steady_cornering_understeer_gradient():
     assert use.sum() > 50
     speed, rate, lateral, steer = speed[use], rate[use], lateral[use], steer[use]
     gradient = np.polyfit(lateral, steer - params.wheelbase_m * rate / speed, 1)[0]
-    loads = params.design_axle_loads_N()
+    loads = design_axle_loads_N(params)
     tyre = MagicFormulaTyre.from_file(str(resource("urdf/tyres/pacejka2006_205_60R15.tir")))
     c_front = abs(magic_formula(tyre, loads["front"] / 2, 0, 0, 0, 16.7).cornering_stiffness)
     c_rear = abs(magic_formula(tyre, loads["rear"] / 2, 0, 0, 0, 16.7).cornering_stiffness)

@@ -11,7 +11,7 @@ import numpy as np
 from pydrake.multibody.tree import LinearSpringDamper, PdControllerGains
 
 from drake_car.model.anti_roll_bar import arm_rates
-from drake_car.model.geometry import SIDES
+from drake_car.model.geometry import SIDES, design_axle_loads_N
 from drake_car.model.kinematics import LOOP_CLOSURES, SuspensionKinematics
 from drake_car.model.loading import ModelSource, frame_point, load_car
 from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
@@ -95,7 +95,7 @@ def spring_settings(params: CarParameters, source: ModelSource):
 
 def _compute_spring_settings(params, source):
     kin = SuspensionKinematics(source, params.front.guide_length_l_m)
-    loads = params.design_axle_loads_N()
+    loads = design_axle_loads_N(params)
     settings = {}
     for axle, wheel_rate, axle_load in (("front", params.front.wheel_rate_Npm, loads["front"]),
                                         ("rear", params.rear.wheel_rate_Npm, loads["rear"])):

@@ -4,7 +4,7 @@
 import numpy as np
 from pydrake.multibody.tree import PdControllerGains
 
-from drake_car.model.geometry import SIDES
+from drake_car.model.geometry import SIDES, design_axle_loads_N
 
 # Prescribed front-wheel rotation (paper section 4): a stiff SAP servo on each wheel's spin
 # joint; 1e5 N m/rad keeps the wheel within ~0.01 rad of its command at the ~1 kN m drive torque
@@ -14,7 +14,7 @@ DRIVE_SERVO_GAINS = PdControllerGains(p=1.0e5, d=2.0e3)
 
 def rolling_radius(params, axle="front"):
     """Effective rolling radius of a tyre at its design load: R0 - δ/3."""
-    load = params.design_axle_loads_N()[axle] / 2
+    load = design_axle_loads_N(params)[axle] / 2
     return params.tyre.unloaded_radius_m - load / params.tyre.radial_stiffness_Npm / 3
 
 

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from drake_car.model.parameters import CarParameters
+from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
 
 SIDES = {"left": 1.0, "right": -1.0}
 
@@ -103,6 +103,60 @@ def rear_corner_points(params: CarParameters, side: float) -> RearCornerPoints:
         spring_upper_seat=np.array(
             [x_axle + r.spring_ahead_of_axle_m, s * r.spring_y_m, r.spring_upper_height_m]),
     )
+
+
+def part_centres_of_mass(params: CarParameters):
+    """(mass, centre of mass in V) of every body but the chassis, as the model file places
+    them (``model.sdformat`` uses these for its inertial elements)."""
+    m, f = params.mass, params.front
+    parts = [(m.rack_kg, np.array([f.rack_x_m, 0.0, f.rack_height_m]))]
+    for side in SIDES.values():
+        p = front_corner_points(params, side)
+        parts += [
+            (m.front_lower_arm_kg, (p.arm_front_pivot + p.arm_rear_pivot + p.ball_joint) / 3),
+            (m.front_knuckle_kg, 0.6 * p.wheel_centre + 0.4 * p.strut_lower_mount),
+            (m.strut_slider_kg, p.guide),
+            (m.piston_rod_kg, (p.top_mount + p.piston) / 2),
+            (m.front_wheel_kg, p.wheel_centre),
+            (m.tie_rod_kg, (p.tie_rod_inner + p.tie_rod_outer) / 2)]
+        if f.top_mount_stiffness_Npm > 0:
+            parts.append((f.top_mount_mass_kg(), p.top_mount))
+        r = rear_corner_points(params, side)
+        parts += [(m.rear_carrier_kg, 0.3 * r.pivot + 0.7 * r.wheel_centre),
+                  (m.rear_wheel_kg, r.wheel_centre)]
+    return parts
+
+
+def chassis_mass_and_com(params: CarParameters):
+    """The chassis (the sprung mass) with [ESC]'s CoG: ``cog_to_front_axle_m`` behind the
+    front axle and ``sprung_cog_height_m`` high (CommonRoad's restatement gives both for the
+    sprung mass); its mass is the total less the parts'."""
+    return (params.mass.total_mass_kg - params.parts_mass_kg(),
+            np.array([-params.mass.cog_to_front_axle_m, 0.0, params.mass.sprung_cog_height_m]))
+
+
+def centre_of_mass(params: CarParameters):
+    """The whole car's centre of mass in V at the design position."""
+    chassis_mass, chassis_com = chassis_mass_and_com(params)
+    total = chassis_mass * chassis_com
+    for mass, com in part_centres_of_mass(params):
+        total = total + mass * com
+    return total / params.mass.total_mass_kg
+
+
+def whole_car_cog_to_front_m(params: CarParameters):
+    """The whole car's centre of mass behind the front axle (m), at the design position."""
+    return float(-centre_of_mass(params)[0])
+
+
+def design_axle_loads_N(params: CarParameters):
+    """Static axle loads (N) of the car at its design position: its weight shared by the axles
+    in proportion to the whole car's centre of mass (the sprung mass at [ESC]'s CoG, the parts
+    where they are)."""
+    weight = params.mass.total_mass_kg * GRAVITY_MPS2
+    behind_front = -centre_of_mass(params)[0]
+    return {"front": weight * (params.wheelbase_m - behind_front) / params.wheelbase_m,
+            "rear": weight * behind_front / params.wheelbase_m}
 
 
 def rpy_z_to(direction):

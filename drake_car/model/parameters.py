@@ -56,7 +56,9 @@ class MassParameters:
 
     # [ESC] total (test) mass 84 slug.
     total_mass_kg: float = 1225.9
-    # [ESC] CoG to front axle, CoG to rear axle.
+    # [ESC] the sprung mass's CoG to the front and rear axle (CommonRoad's parameters_vehicle1:
+    # "distance from spring mass center of gravity to front/rear axle"); the whole car's CoG
+    # follows with the parts where they are (model.geometry.centre_of_mass: 0.92 m).
     cog_to_front_axle_m: float = 0.884
     cog_to_rear_axle_m: float = 1.509
     # [ESC] CoG height of the sprung mass.
@@ -251,14 +253,6 @@ class CarParameters:
     @property
     def wheelbase_m(self):
         return self.mass.cog_to_front_axle_m + self.mass.cog_to_rear_axle_m
-
-    def design_axle_loads_N(self):
-        """Static axle loads of the real car [ESC] from its mass and CoG position."""
-        weight = self.mass.total_mass_kg * GRAVITY_MPS2
-        return {
-            "front": weight * self.mass.cog_to_rear_axle_m / self.wheelbase_m,
-            "rear": weight * self.mass.cog_to_front_axle_m / self.wheelbase_m,
-        }
 
     def check(self):
         """Raises ParameterError naming the first parameter out of range (key path from the

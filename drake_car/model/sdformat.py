@@ -32,7 +32,7 @@ import numpy as np
 
 from drake_car.data import resource
 from drake_car.model.geometry import (
-    SIDES, front_corner_points, rear_corner_points, rpy_z_to)
+    SIDES, chassis_mass_and_com, front_corner_points, rear_corner_points, rpy_z_to)
 from drake_car.model.parameters import CarParameters
 
 # The committed model file, in the project's urdf/ folder (the package's data).
@@ -101,22 +101,6 @@ def _frame(name, link, point):
   <frame name="{name}" attached_to="{link}">
     <pose relative_to="__model__">{_v(point)} 0 0 0</pose>
   </frame>"""
-
-
-def chassis_mass_and_com(params: CarParameters):
-    """Chassis mass and CoG such that the whole car has [ESC]'s mass and CoG position."""
-    m = params.mass
-    chassis_mass = m.total_mass_kg - params.parts_mass_kg()
-    # Parts: take their x positions from the hard points (front parts near x = 0, rear near -L).
-    x_front, x_rear = 0.0, -params.wheelbase_m
-    front_parts = 2 * (m.front_wheel_kg + m.front_knuckle_kg + m.front_lower_arm_kg
-                       + m.piston_rod_kg + m.strut_slider_kg + m.tie_rod_kg
-                       + params.front.top_mount_mass_kg()) + m.rack_kg
-    rear_parts = 2 * (m.rear_wheel_kg + m.rear_carrier_kg)
-    x_total = -m.cog_to_front_axle_m
-    x_chassis = (m.total_mass_kg * x_total - front_parts * x_front
-                 - rear_parts * x_rear) / chassis_mass
-    return chassis_mass, np.array([x_chassis, 0.0, m.sprung_cog_height_m])
 
 
 def generate_sdformat(params: CarParameters) -> str:

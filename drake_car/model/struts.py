@@ -2,7 +2,7 @@
 car's joints and strut geometry (the generic system is ``systems.strut_friction``)."""
 
 from drake_car.law.frd_friction import StrutFrictionParameters
-from drake_car.model.geometry import SIDES
+from drake_car.model.geometry import SIDES, design_axle_loads_N
 from drake_car.systems.friction_pairs import Strut, declare_pairs
 from drake_car.systems.strut_friction import StrutFriction, explicit_time_step_limit_s
 
@@ -23,7 +23,7 @@ def reference_time_step_limit_s(params, law: StrutFrictionParameters):
     (``systems.strut_friction.explicit_time_step_limit_s`` with the strut's effective mass and
     its normal force at rest, ``NORMAL_FORCE_AT_REST_SHARE`` of the corner load). Measured on
     the default car with μs = 0.4: 5 µs converges, 10 µs does not (limit 6.5 µs)."""
-    normal = NORMAL_FORCE_AT_REST_SHARE * params.design_axle_loads_N()["front"] / 2
+    normal = NORMAL_FORCE_AT_REST_SHARE * design_axle_loads_N(params)["front"] / 2
     return explicit_time_step_limit_s(strut_effective_mass_kg(params), normal, law.translation())
 
 

@@ -12,7 +12,7 @@ import numpy as np
 from pydrake.systems.analysis import Simulator
 
 from drake_car.model.car import loop_closure_error, strut_overlap
-from drake_car.model.geometry import SIDES
+from drake_car.model.geometry import SIDES, design_axle_loads_N
 from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.scene.load import (
@@ -240,7 +240,7 @@ def final_state(built, root):
             "rear": float(chassis.multiply(np.array([-car.params.wheelbase_m, 0.0, r0]))[2])}
     return {
         "corner_loads_N": {w: float(loads[i]) for i, w in enumerate(WHEELS)},
-        "design_axle_loads_N": car.params.design_axle_loads_N(),
+        "design_axle_loads_N": design_axle_loads_N(car.params),
         "ride_height_m": ride,
         "strut_overlap_m": {s: float(strut_overlap(car, pc, s)) for s in SIDES},
         "loop_closure_error_m": loop_closure_error(car, pc),
