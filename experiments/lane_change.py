@@ -4,15 +4,19 @@ scenes/paper_study.yaml. Writes into DIR:
 
   <run>/history.csv, scene.yaml, run.json   each run as it ran (the scene with every value)
   <run>.csv               the study's columns of each run (Δd from static equilibrium, μ1, ...)
-  fig13.png ... fig16.png the paper's figures; wheel_loads.png before/after the manoeuvre
-  summary.json, report.md the paper's claims: reproduced or not, the deciding number, the figure
-  diagram.svg             the Diagram of the replayed run, as it ran
+  fig13.png ... fig16.png the paper's figures (places a and b shaded, both struts in Fig. 16)
+  claim1_return.png, load_split.png, symmetry.png, rod_rotation.png   a figure per claim
+  summary.json, report.md the paper's claims: reproduced or not, the deciding numbers beside
+                          their thresholds with their numerical error, the figures
+  diagram_overview.svg    the Diagram of the replayed run at a glance; diagram.svg every port
   <run>/replay.html       the Meshcat replay of the highest-friction run of case a
 
-Where a verdict disagrees with the paper, every run is repeated at half its time step and the
-report shows both verdicts. Options and scenes: --scene_text is laid over every run's scene
-(e.g. "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the
-replay is added to one run's scene (so its saved scene says so).
+Every run is repeated at half its time step (skip it with --no_verify): the report gives each
+deciding number at both steps, |x(dt) - x(dt/2)| as its numerical error, and both verdicts.
+All runs go as one sweep (``study.sweep.run_scenes``: in parallel, a progress bar over the
+runs on a terminal). Options and scenes: --scene_text is laid over every run's scene (e.g.
+"plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
+added to one run's scene (so its saved scene says so).
 
 Example:  python experiments/lane_change.py --out results
 """
@@ -23,16 +27,21 @@ import time
 from drake_car import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene_file
-from drake_car.scene.scene import MeshcatReplay, NoVisualization
+from drake_car.scene.scene import MeshcatReplay, NoVisualization, PrescribedRotation
 from drake_car.sim.outputs import (
-    output_folder, provenance, write_csv, write_diagram_svg, write_json, write_run)
+    output_folder, provenance, write_csv, write_diagram_overview_svg, write_diagram_svg,
+    write_json, write_run)
 from drake_car.study.figures import all_figures
+from drake_car.study.measures import claim_measures
 from drake_car.study.paper import (
-    check_study_scenes, evaluate_claims, friction_of, study_runs, study_timeline)
+    check_study_scenes, evaluate_claims, friction_of, study_runs,
+    study_timeline)
 from drake_car.study.report import report, summary
 from drake_car.study.sweep import run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
+HALF = " at dt/2"  # the half-step repetition of a run, among the sweep's names
+PAPER_DRIVE = " paper's drive"  # the run with the paper's drive, among the sweep's names
 
 
 def main(argv=None):
@@ -41,8 +50,12 @@ def main(argv=None):
                    help="the study's scenes file (default: %(default)s)")
     p.add_argument("--scene_text", default="", help="YAML laid over every run's scene")
     p.add_argument("--no_verify", action="store_true",
-                   help="skip the half-step repetition of disagreeing verdicts")
+                   help="skip the half-step repetition of every run (the numbers' "
+                        "numerical error estimates)")
     p.add_argument("--no_html", action="store_true", help="no Meshcat replay")
+    p.add_argument("--no_paper_drive", action="store_true",
+                   help="skip the comparison with the paper's own drive (both front wheels' "
+                        "rotation prescribed: a locked front axle)")
     args = p.parse_args(argv)
     cli.check_out(args)
     scenes = load_scene_file(args.scene, args.scene_text or None)
@@ -56,29 +69,46 @@ def main(argv=None):
                                                    visualization=MeshcatReplay())
     began = time.perf_counter()
     with output_folder(args.out) as out:
-        runs = run_scenes(scenes)
+        halved = {} if args.no_verify else {
+            name: dataclasses.replace(s, plant=_halved(s.plant), visualization=NoVisualization())
+            for name, s in scenes.items()}
+        locked = {} if args.no_paper_drive else {
+            name + PAPER_DRIVE: dataclasses.replace(s, drive=PrescribedRotation(),
+                                                    visualization=NoVisualization())
+            for name, s in scenes.items()}
+        # One sweep (one progress bar) over the runs, their half-step repetitions and the
+        # comparison with the paper's drive.
+        done = run_scenes(scenes | {n + HALF: s for n, s in halved.items()} | locked)
+        runs = {name: done[name] for name in scenes}
         study = study_runs(runs)
         timeline = study_timeline(runs)
         claims, shifts = evaluate_claims(study, timeline)
-        half = None
-        if not args.no_verify and not all(c["reproduced"] for c in claims):
-            halved = {name: dataclasses.replace(
-                s, plant=_halved(s.plant), visualization=NoVisualization())
-                for name, s in scenes.items()}
-            half_runs = run_scenes(halved)
-            half_claims, _ = evaluate_claims(study_runs(half_runs), timeline)
+        half, half_study = None, None
+        if halved:
+            half_study = study_runs({name: done[name + HALF] for name in halved})
+            half_claims, _ = evaluate_claims(half_study, timeline)
             half = {"time_step_s": {n: s.plant.time_step for n, s in halved.items()},
                     "verdicts": [c["reproduced"] for c in half_claims],
-                    "numbers": [c["number"] for c in half_claims]}
+                    "numbers": [c["number"] for c in half_claims],
+                    "measures": claim_measures(half_study, timeline)}
+        paper_drive = None
+        if locked:
+            locked_study = study_runs({name: done[name + PAPER_DRIVE] for name in scenes})
+            locked_claims, _ = evaluate_claims(locked_study, timeline)
+            paper_drive = {"verdicts": [c["reproduced"] for c in locked_claims],
+                           "numbers": [c["number"] for c in locked_claims]}
         for name, run in runs.items():
             (out / name).mkdir()
             write_run(run, out / name, diagram=False)
             write_csv(out / f"{name}.csv", study[name].columns)
-        figures = all_figures(study, timeline, out)
+        figures = all_figures(study, timeline, out, half=half_study)
         shown = replayed or next(iter(runs))
         write_diagram_svg(runs[shown].diagram_dot, out / "diagram.svg")
+        write_diagram_overview_svg(runs[shown].diagram_dot, out / "diagram_overview.svg")
         s = summary(study, claims, shifts, timeline, runs=runs, half=half, figures=figures,
-                    wall_s=time.perf_counter() - began, provenance=provenance())
+                    wall_s=time.perf_counter() - began, provenance=provenance(),
+                    replay=replayed)
+        s["paper_drive"] = paper_drive
         write_json(out / "summary.json", s)
         (out / "report.md").write_text(report(s))
     failed = [c["claim"] for c in claims if not c["reproduced"]]

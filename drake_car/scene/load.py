@@ -49,10 +49,13 @@ class SceneError(ValueError):
     path, the value and what is allowed."""
 
 
-def load_scene(path=None, *, child=None, scene_text=None) -> Scene:
+def load_scene(path=None, *, child=None, scene_text=None, base=None) -> Scene:
     """A scene from ``path`` (its top-level entry ``child``; a file with one entry needs none),
-    with ``scene_text`` laid on top; checked."""
-    scene = Scene()
+    with ``scene_text`` laid on top; checked. ``base``: a Scene to start from instead of the
+    defaults (without ``path``)."""
+    if base is not None and path is not None:
+        raise ValueError("load_scene: give a path or a base scene, not both")
+    scene = Scene() if base is None else base
     where = "scene defaults"
     if path is not None:
         path = Path(path)

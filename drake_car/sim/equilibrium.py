@@ -41,7 +41,7 @@ def equilibrium_scene(scene: Scene) -> Scene:
                                         for f in MultibodyPlantConfig.__fields__})
         plant.time_step = sim.equilibrium_time_step_s
     return Scene(
-        name=f"{scene.name}: static equilibrium", car=car, friction=None,
+        name="static equilibrium", car=car, friction=None,
         tyres=VerticalOnly(), road=scene.road,
         manoeuvre=Settle(duration_s=scene.simulator.equilibrium_settle_s),
         plant=plant,

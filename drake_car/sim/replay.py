@@ -141,7 +141,7 @@ class ReplayRecorder:
             middle = 0.5 * (x_min + x_max)
             span = x_max - x_min
             m.SetCamera(Meshcat.PerspectiveCamera(fov=45, near=0.1, far=4 * span))
-            m.SetCameraPose([middle, -0.6 * span, 0.7 * span], [middle, 0.0, 0.0])
+            m.SetCameraPose([middle, -0.5 * span, 0.6 * span], [middle, 0.0, 0.0])
 
     def finish(self):
         m = self._meshcat

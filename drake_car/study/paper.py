@@ -290,6 +290,10 @@ def evaluate_claims(study: dict, timeline: Timeline):
         "number": f"largest |Δd(a, side) - Δd(b, other side)| {1e3 * worst_sym:.4f} mm "
                   f"(peak |Δd| {1e3 * peak:.1f} mm)",
         "value_m": worst_sym, "reproduced": bool(worst_sym <= SYMMETRY_TOLERANCE * peak),
+        "why": "the car and its cases are mirror images, so the difference is numerical: a "
+               "dry strut that sticks near its break-away load breaks free a step earlier or "
+               "later in the mirrored run and sticks elsewhere; its size changes with the "
+               "step (the half-step rerun), so this verdict is not resolved",
         "figure": "fig14_a.png vs fig15_b.png, fig14_b.png vs fig15_a.png"})
 
     # 5. Rod rotation stays below 3 deg.
@@ -323,3 +327,7 @@ def evaluate_claims(study: dict, timeline: Timeline):
                "the stick phases end (the load reverses or the rod breaks free) before the "
                "creep saturates, which depends on N and on the loads of this car"})
     return claims, shifts
+
+
+
+# -- the claims' deciding numbers, as numbers (for their numerical error) --------------------

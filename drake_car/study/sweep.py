@@ -1,8 +1,326 @@
-"""Running many scenes (serially for now; the Dask runner replaces this)."""
+"""Sweeps: many scenes, each run as one Dask task (``dask.distributed``), each result kept as
+it completes.
 
+Where runs go: a ``LocalCluster`` started here, one single-threaded worker process per core
+(``workers``), its scheduler, nannies, workers and dashboards all on 127.0.0.1 only; or any
+running cluster by its scheduler's address (``scheduler``; left running; its workers must be
+able to import drake_car). A scene travels as its YAML (Drake's configs do not pickle) and is
+loaded and checked on the worker; its ``Run`` comes back pickled (with its scene as YAML).
+
+``run_sweep(scenes, out_dir)`` writes a results folder keyed by the scenes' content hashes
+(``scene_hash``: equal scenes make equal runs; two names with one hash run once)::
+
+    DIR/runs/<hash>/status.json   hash, name(s), status (ok|failed), wall_s (the task on its
+                                  worker: build, equilibrium unless cached, run), worker,
+                                  finished_utc, error, traceback
+    DIR/runs/<hash>/scene.yaml    the scene (rerun it: python -m drake_car.run --scene it)
+    DIR/runs/<hash>/history.csv, run.json   an ok run's files (``sim.outputs.write_run``)
+    DIR/runs/<hash>/run.pkl       an ok run's ``Run`` as pickled (what a restart hands back)
+    DIR/index.csv                 hash, name, status, wall_s, error: a row per run folder
+
+A run folder appears whole (``runs/.tmp-*`` renamed) as its run completes, and its row is
+appended to the index, which is rebuilt from the folders at the start and the end (also on
+Ctrl-C, or SIGTERM made SystemExit: the rest is cancelled). A restarted sweep reuses every run
+folder (failed ones too, unless ``rerun_failed``) and runs only the missing scenes. A worker
+that dies mid-run is restarted by its nanny and its runs handed out again; a run whose workers
+died more than ``distributed.scheduler.allowed-failures`` (3) times fails (KilledWorker). A run
+that raises is recorded as failed with its error and traceback, not retried (a run is a pure
+function of its scene), and the sweep goes on. One sweep per folder at a time
+(``DIR/.sweep.lock``). ``run.json`` names the commit: a restart after a code change mixes them.
+"""
+import contextlib
+import csv
+import dataclasses
+import datetime
+import os
+import pickle
+import sys
+import time
+import traceback
+import uuid
+from pathlib import Path
+
+from pydrake.common.yaml import yaml_load_typed
+
+from drake_car.scene.load import check_scene, dump_scene, scene_hash
+from drake_car.scene.scene import Scene
+from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
+from drake_car.study.sweep_folder import (
+    INDEX_FIELDS, commit_run, folder_lock, remove_stale, load_run, read_status, rebuild_index)
+from drake_car.systems.failure import SimulationFailure
+
+LOOPBACK = "127.0.0.1"
+CONNECT_TIMEOUT_S = 10
 
 
-def run_scenes(scenes: dict, *, progress=True):
-    """name -> Run for name -> Scene."""
-    return {name: simulate(scene, progress=progress) for name, scene in scenes.items()}
+def cores():
+    """The cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+
+
+def local_cluster(workers=None, **kwargs):
+    """A LocalCluster of ``workers`` single-threaded worker processes (default: one per core),
+    everything listening on 127.0.0.1 (Dask's dashboard would take every interface)."""
+    from distributed import LocalCluster
+    return LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,
+                        host=LOOPBACK, dashboard_address=f"{LOOPBACK}:0", **kwargs)
+
+
+@contextlib.contextmanager
+def dask_client(scheduler=None, workers=None):
+    """A Client of the cluster at ``scheduler`` (left running) or of a ``local_cluster`` of
+    ``workers`` started here and closed on exit. An unreachable scheduler raises OSError."""
+    from distributed import Client
+    if scheduler:
+        with Client(scheduler, timeout=CONNECT_TIMEOUT_S, set_as_default=False) as client:
+            yield client
+        return
+    with local_cluster(workers) as cluster, Client(cluster, set_as_default=False) as client:
+        yield client
+
+
+# -- on the worker ---------------------------------------------------------------------------
+
+def run_task(items):
+    """Runs on a worker: the scenes of ``items`` ([(scene YAML, content hash), ...]), checked
+    and simulated; scenes that share a prefix (``sim.branch``: a lane change's cases) run it
+    once. Returns, per item, {"run": the pickled Run (None if it raised), "wall_s", "worker",
+    and if it raised "error" (type: message), "traceback" and "exception" (pickled, or None)}:
+    a run's failure is a result (Dask neither retries nor logs it). When a family fails, its
+    scenes are run one by one, so that only the failing one is recorded as failed."""
+    from distributed import get_worker
+    worker = get_worker().address
+    began = time.perf_counter()
+    try:
+        scenes = [_scene_of(text, key) for text, key in items]
+        runs = simulate_family(scenes) if len(scenes) > 1 else [simulate(scenes[0])]
+        wall = (time.perf_counter() - began) / len(runs)
+        return [{"run": pickle.dumps(run, protocol=pickle.HIGHEST_PROTOCOL), "wall_s": wall,
+                 "worker": worker} for run in runs]
+    except Exception as e:
+        if len(items) == 1:
+            return [_failed(e, began, worker)]
+    results = []
+    for text, key in items:
+        began = time.perf_counter()
+        try:
+            run = simulate(_scene_of(text, key))
+            results.append({"run": pickle.dumps(run, protocol=pickle.HIGHEST_PROTOCOL),
+                            "wall_s": time.perf_counter() - began, "worker": worker})
+        except Exception as e:
+            results.append(_failed(e, began, worker))
+    return results
+
+
+def _scene_of(text, expected_hash):
+    scene = check_scene(yaml_load_typed(schema=Scene, data=text))
+    if scene_hash(scene) != expected_hash:
+        raise RuntimeError(f"the scene's YAML loads back as {scene_hash(scene)}, "
+                           f"not {expected_hash}")
+    return scene
+
+
+def _failed(e, began, worker):
+    return {"run": None, "wall_s": time.perf_counter() - began, "worker": worker,
+            "error": f"{type(e).__name__}: {' '.join(str(e).split())}",
+            "traceback": traceback.format_exc(), "exception": _pickled(e)}
+
+
+def _pickled(error):
+    """``error`` pickled, if it unpickles again (else None)."""
+    with contextlib.suppress(Exception):
+        blob = pickle.dumps(error)
+        pickle.loads(blob)
+        return blob
+    return None
+
+
+# -- in the parent ---------------------------------------------------------------------------
+
+@dataclasses.dataclass
+class Job:
+    """One distinct run: its content hash, the names it goes by, its scene (the first name)."""
+    hash: str
+    names: list
+    scene: Scene
+
+
+def jobs_of(scenes: dict):
+    """hash -> Job for name -> Scene, in the scenes' order."""
+    jobs = {}
+    for name, scene in scenes.items():
+        key = scene_hash(scene)
+        if key in jobs:
+            jobs[key].names.append(name)
+        else:
+            jobs[key] = Job(key, [name], scene)
+    return jobs
+
+
+def tasks_of(jobs):
+    """The jobs grouped into tasks: those whose scenes share a prefix (``sim.branch``) in one
+    task, which runs the prefix once; every other job alone."""
+    groups = {}
+    for job in jobs:
+        point = branch_point(job.scene)
+        groups.setdefault(point if point is not None else ("alone", job.hash), []).append(job)
+    return list(groups.values())
+
+
+def compute(client, jobs, done, *, progress=True, desc="sweep"):
+    """Submits ``jobs`` to ``client`` (as ``tasks_of``) and calls ``done(job, record,
+    result)`` for each as its task completes (``result``: the pickled Run, or if it failed its
+    exception, pickled when it could be, or Dask's); a progress bar with the time left.
+    Whatever has not completed when this returns or raises is cancelled."""
+    from distributed import as_completed
+    from tqdm import tqdm
+    token = uuid.uuid4().hex[:8]  # distinct task keys for each sweep on a shared scheduler
+    tasks = tasks_of(jobs)
+    futures = client.map(run_task, [[(dump_scene(j.scene), j.hash) for j in task]
+                                    for task in tasks],
+                         key=[f"run-{task[0].hash}-{len(task)}-{token}" for task in tasks],
+                         pure=False)
+    pending = {f.key: task for f, task in zip(futures, tasks)}
+    failed = 0
+    bar = tqdm(total=len(jobs), desc=desc, unit="run", file=sys.stderr, smoothing=0.1,
+               disable=None if progress else True)
+    try:
+        # with_results: each result is fetched as soon as it is done (one left on a worker
+        # that dies would be computed again); loop: this client's, not the default client's
+        for future, results in as_completed(futures, loop=client.loop, with_results=True,
+                                            raise_errors=False):
+            task = pending.pop(future.key)
+            future.release()
+            if not isinstance(results, list):  # the task itself failed (a killed worker ...)
+                results = [results] * len(task)
+            for job, result in zip(task, results):
+                record, result = _record(job, result)
+                done(job, record, result)
+                failed += record["status"] == "failed"
+                bar.set_postfix(failed=failed, refresh=False)
+                bar.update()
+    finally:
+        bar.close()
+        if pending:
+            client.cancel([f for f in futures if f.key in pending])
+
+
+def _record(job, result):
+    """(status record, the pickled Run or the error) of what Dask gave for ``job``."""
+    record = {"hash": job.hash, "name": job.names[0], "names": job.names, "status": "failed",
+              "wall_s": None, "worker": "", "error": "", "traceback": "",
+              "finished_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(
+                  timespec="milliseconds")}
+    if isinstance(result, dict):  # run_task's
+        record.update({k: result[k] for k in ("wall_s", "worker", "error", "traceback")
+                       if k in result})
+        if result["run"] is not None:
+            record["status"] = "ok"
+            return record, result["run"]
+        return record, result["exception"]
+    if isinstance(result, tuple):  # as_completed gives (type, error, traceback)
+        result = result[1]
+    # KilledWorker, cancelled, run_task not importable on the worker, ...
+    record.update(error=f"{type(result).__name__}: {' '.join(str(result).split())}",
+                  traceback="".join(traceback.format_exception(result)))
+    return record, result
+
+
+def failure(name, record, error=None):
+    """The exception for run ``name`` that failed (``error``: its exception, or it pickled):
+    its own type with the run named (else the exception itself, or a SimulationFailure with
+    the error's text), the worker's traceback as a note."""
+    original = error
+    if isinstance(error, bytes):
+        with contextlib.suppress(Exception):
+            original = pickle.loads(error)
+    if isinstance(original, Exception):  # its own type, naming the run, where it can
+        try:
+            e = type(original)(f"run {name}: {original}")
+            e.__cause__ = original
+        except Exception:
+            e = original
+    else:
+        e = SimulationFailure(f"run {name} failed: {record['error']}")
+    e.add_note(f"run {name} failed on {record['worker'] or 'a Dask worker'}; there:\n"
+               f"{record['traceback']}")
+    return e
+
+
+def missing(scenes, out_dir, *, rerun_failed=False):
+    """The Jobs of ``scenes`` that ``out_dir`` has no folder for (or a failed one)."""
+    runs = Path(out_dir) / "runs"
+    keep = ("ok",) if rerun_failed else ("ok", "failed")
+    return [job for job in jobs_of(scenes).values()
+            if (read_status(runs / job.hash) or {}).get("status") not in keep]
+
+
+def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=None,
+              progress=True, rerun_failed=False) -> dict:
+    """Runs every scene of ``scenes`` (name -> Scene) that ``out_dir`` lacks, writing each
+    result as it completes (see the module). On ``client``, else on the cluster at
+    ``scheduler``, else on a local cluster of ``workers`` (default: one per core, at most one
+    per run). Returns {"ok", "failed", "reused": counts, "wall_s", "status": hash -> ok|failed,
+    "hashes": name -> hash}."""
+    began = time.perf_counter()
+    out = Path(out_dir)
+    runs = out / "runs"
+    jobs = jobs_of(scenes)
+    runs.mkdir(parents=True, exist_ok=True)
+    counts = {"ok": 0, "failed": 0, "reused": 0}
+    status = {}
+
+    def done(job, record, result):
+        commit_run(runs, job, record, result)
+        with open(out / "index.csv", "a", newline="") as f:
+            csv.DictWriter(f, INDEX_FIELDS, extrasaction="ignore").writerow(record)
+        status[job.hash] = record["status"]
+        counts[record["status"]] += 1
+
+    with folder_lock(out):
+        try:
+            remove_stale(runs)
+            rebuild_index(out)
+            todo = missing(scenes, out, rerun_failed=rerun_failed)
+            for key in jobs.keys() - {job.hash for job in todo}:
+                status[key] = read_status(runs / key)["status"]
+            counts["reused"] = len(status)
+            if todo and client is not None:
+                compute(client, todo, done, progress=progress)
+            elif todo:
+                with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
+                    compute(own, todo, done, progress=progress)
+        finally:
+            remove_stale(runs)
+            rebuild_index(out)
+    return {**counts, "wall_s": time.perf_counter() - began, "status": status,
+            "hashes": {name: key for key, job in jobs.items() for name in job.names}}
+
+
+def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
+               out_dir=None) -> dict:
+    """name -> Run for name -> Scene, run as a sweep (see the module), in the scenes' order.
+    ``out_dir`` None: the results are kept in memory only; a folder: they are written there
+    too, as ``run_sweep`` does (a restart reuses its runs). If any run failed, raises the
+    first failed run's error, in the scenes' order (``failure``), after all have run."""
+    jobs = jobs_of(scenes)
+    results = {}
+    if not jobs:
+        return {}
+    if out_dir is not None:
+        run_sweep(scenes, out_dir, scheduler=scheduler, workers=workers, progress=progress)
+        results = {key: load_run(out_dir, key) for key in jobs}
+    else:
+        def keep(job, record, result):
+            results[job.hash] = (record, pickle.loads(result) if record["status"] == "ok"
+                                 else result)
+        with dask_client(scheduler, min(workers or cores(), len(jobs))) as client:
+            compute(client, list(jobs.values()), keep, progress=progress, desc="runs")
+    runs = {}
+    for name, scene in scenes.items():
+        record, run = results[scene_hash(scene)]
+        if record["status"] != "ok":
+            raise failure(name, record, run)
+        runs[name] = run if run.scene.name == name else dataclasses.replace(run, scene=scene)
+    return runs

@@ -1,0 +1,94 @@
+"""Figures of the design study: heat maps of 2-D slices with the paper's point and the
+threshold's boundary, the Sobol indices with their confidence intervals, the Monte-Carlo
+distributions with each mitigation's."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
+             value_label="lasting front load split change [% of corner load]", noise=None):
+    """``values[j][i]`` at (xs[i], ys[j]), in %; the contour |value| = threshold (%) drawn;
+    cells whose |value| is within ``noise`` (%) of the threshold hatched: the boundary there
+    is not resolved."""
+    z = np.asarray(values, dtype=float)
+    fig, ax = plt.subplots(figsize=(6.4, 5.0))
+    limit = max(float(np.nanmax(np.abs(z))), threshold * 1.5, 1e-9)
+    mesh = ax.pcolormesh(xs, ys, z, shading="nearest", cmap="RdBu_r", vmin=-limit,
+                         vmax=limit)
+    fig.colorbar(mesh, ax=ax, label=value_label)
+    if np.nanmax(np.abs(z)) > threshold and np.nanmin(np.abs(z)) < threshold:
+        contour = ax.contour(xs, ys, np.abs(z), levels=[threshold], colors="k",
+                             linewidths=1.6)
+        ax.clabel(contour, fmt={threshold: f"threshold {threshold:g}"}, fontsize=7)
+    if noise is not None:
+        near = np.abs(np.abs(z) - threshold) < noise
+        for j, y in enumerate(ys):
+            for i, x in enumerate(xs):
+                if near[j, i]:
+                    ax.plot(x, y, "x", color="0.3", ms=7)
+    ax.plot(*paper, marker="*", color="gold", mec="k", ms=16, label="the paper's car",
+            ls="none")
+    for j, y in enumerate(ys):
+        for i, x in enumerate(xs):
+            ax.text(x, y, f"{z[j, i]:+.1f}", ha="center", va="center", fontsize=7)
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    ax.set_title(title, fontsize=10)
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), fontsize=8, frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def sobol_bars(rows_by_outcome, path):
+    """First-order and total indices with their 95 % intervals, one panel per outcome; an
+    index whose interval is wider than itself is drawn hollow (not ranked on)."""
+    fig, axes = plt.subplots(1, len(rows_by_outcome), figsize=(5.2 * len(rows_by_outcome), 4.2),
+                             squeeze=False)
+    for ax, (outcome, rows) in zip(axes[0], rows_by_outcome.items()):
+        labels = [r["label"] for r in rows]
+        y = np.arange(len(rows))
+        for offset, key, colour in ((-0.18, "S1", "tab:blue"), (0.18, "ST", "tab:orange")):
+            values = np.array([r[key] for r in rows])
+            conf = np.array([r[f"{key}_conf"] for r in rows])
+            resolved = conf < np.abs(values)
+            ax.barh(y + offset, values, 0.34, xerr=conf, color=np.where(resolved, colour, "w"),
+                    edgecolor=colour, label=f"{key} (hollow: interval wider than the index)",
+                    capsize=3)
+        ax.set_yticks(y, labels, fontsize=8)
+        ax.invert_yaxis()
+        ax.axvline(0, color="k", lw=0.6)
+        ax.set_xlabel("Sobol index")
+        ax.set_title(outcome, fontsize=9)
+        ax.grid(alpha=0.3, axis="x")
+    axes[0][0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.15), fontsize=7, frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def distributions(samples_by_case, *, x_label, threshold, path, title):
+    """Empirical distribution functions of |outcome| per case (the Monte Carlo and each
+    mitigation), the threshold marked."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.4))
+    for name, values in samples_by_case.items():
+        v = np.sort(np.abs(np.asarray(values, dtype=float)))
+        v = v[np.isfinite(v)]
+        if v.size:
+            ax.step(v, np.arange(1, v.size + 1) / v.size, where="post",
+                    label=f"{name} (n = {v.size})")
+    if threshold is not None:
+        ax.axvline(threshold, color="k", ls="--", lw=0.8)
+        ax.text(threshold, 0.02, f" threshold {threshold:g}", fontsize=7)
+    ax.set_xlabel(x_label)
+    ax.set_ylabel("share of runs at or below")
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

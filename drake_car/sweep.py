@@ -1,0 +1,244 @@
+"""Runs many scenes on Dask and keeps each result as it completes (``study.sweep``):
+
+  DIR/runs/<hash>/  each run by its scene's content hash: status.json (ok or failed, wall
+                    time, worker, error), scene.yaml (the scene as it ran), and for an ok run
+                    history.csv, run.json and run.pkl (the Run, pickled)
+  DIR/index.csv     hash, name, status, wall_s, error: a row per run
+  DIR/sweep.json    how it was made: each invocation's command, options, scenes (name ->
+                    hash), counts and wall time
+
+Scenes: every entry of --scenes FILE (or the one of FILE:ENTRY), with --scene_text laid over
+each, then each point of the --grid product (every --grid KEY=V1,V2,... a dotted scene key and
+its values, YAML; a key may not be set by --scene_text too), named ENTRY[KEY=V,...] in the
+index (its scene.yaml keeps the entry's name). Every scene is checked before anything runs:
+bad input (a key, a value, an option, the folder) is one line on stderr naming it, exit status
+2, nothing written.
+
+Runs go to a local cluster (one single-threaded worker process per core, or --workers N; its
+scheduler, workers and dashboards listen on 127.0.0.1 only) or, with --scheduler tcp://HOST:PORT,
+to a running Dask cluster (its workers must be able to import drake_car: an installed package
+or PYTHONPATH). Run the same command again to finish a killed sweep: the runs already in DIR
+are kept and only the missing ones run (--rerun_failed: failed ones too); unlike other
+commands' --out, a sweep's folder is added to, never replaced (delete it to start afresh). A
+run that fails is recorded and the others go on; the exit status is then 1.
+
+  python -m drake_car.sweep --scenes scenes/paper_study.yaml --out results/sweep \\
+      --scene_text "simulator: {end_time_s: 3.0}" --grid friction.law.mu_s=0.2,0.3,0.4
+"""
+
+import argparse
+import contextlib
+import itertools
+import json
+import os
+import signal
+import sys
+import time
+import uuid
+from pathlib import Path
+
+from pydrake.common.yaml import yaml_dump, yaml_load
+
+from drake_car import cli
+from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_scene_option
+from drake_car.scene.scene import MeshcatLive
+from drake_car.sim.outputs import OutputError, provenance
+from drake_car.study.sweep import cores, dask_client, missing, run_sweep
+from drake_car.study.sweep_folder import check_unlocked
+
+GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0.2)"
+
+
+def main(argv=None):
+    p = cli.parser(__doc__)
+    p.add_argument("--scenes", required=True, help="scenes file (each entry a run) or FILE:ENTRY")
+    p.add_argument("--scene_text", default="", help="YAML laid over every scene")
+    p.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
+                   help="a scene key and its values; several --grid make their product")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="a running Dask scheduler, e.g. tcp://127.0.0.1:8786 (default: a "
+                        "local cluster on 127.0.0.1)")
+    p.add_argument("--workers", type=_count, default=None,
+                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--rerun_failed", action="store_true", help="run the failed runs again")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    args = p.parse_args(argv)
+    if args.scheduler and args.workers:
+        p.error("--workers sizes the local cluster; a --scheduler cluster has its own workers")
+    grid = [_grid_option(p, item) for item in args.grid]
+    if len({key for key, _ in grid}) < len(grid):
+        p.error("--grid: a key is given twice")
+    check_sweep_folder(args.out)
+    scenes = build_scenes(args.scenes, args.scene_text, grid)  # all checked, before any work
+    for name, scene in scenes.items():
+        if isinstance(scene.visualization, MeshcatLive):
+            raise SceneError(f"scene {name}: visualization = !MeshcatLive: a sweep's runs are "
+                             "not watched; use !MeshcatReplay (replay.html) or leave it out")
+    todo = missing(scenes, args.out, rerun_failed=args.rerun_failed)
+    print(f"{len(scenes)} scenes: {len(todo)} runs to do", file=sys.stderr)
+    began = time.perf_counter()
+    with contextlib.ExitStack() as stack:
+        stack.enter_context(_terminate_as_exit())
+        client = None
+        if todo:  # connected before anything is written
+            try:
+                client = stack.enter_context(dask_client(
+                    args.scheduler, min(args.workers or cores(), len(todo))))
+            except (OSError, ValueError) as e:
+                if not args.scheduler:
+                    raise
+                p.error(f"--scheduler {args.scheduler}: cannot connect ({_one_line(e)})")
+        workers = len(client.scheduler_info()["workers"]) if client else 0
+        if client:
+            print(f"on {workers} workers of {args.scheduler or 'a local cluster'}"
+                  + (" (none yet: the runs wait for one)" if not workers else ""),
+                  file=sys.stderr)
+        entry = {"provenance": provenance(), "scenes_file": args.scenes,
+                 "scene_text": args.scene_text, "grid": dict(grid),
+                 "scheduler": args.scheduler or "local cluster", "workers": workers,
+                 "rerun_failed": args.rerun_failed, "scenes": {}, "summary": None}
+        log = _log_invocation(args.out, entry)
+        summary = run_sweep(scenes, args.out, client=client, progress=not args.quiet,
+                            rerun_failed=args.rerun_failed)
+    wall = time.perf_counter() - began
+    entry["scenes"] = summary["hashes"]
+    entry["summary"] = {k: summary[k] for k in ("ok", "failed", "reused")} | {"wall_s": wall}
+    _write_json(args.out / "sweep.json", log)
+    failed = sorted(k for k, s in summary["status"].items() if s == "failed")
+    print(f"{len(summary['status'])} runs: {summary['ok']} done now, {summary['reused']} "
+          f"reused, {len(failed)} failed, in {wall:.1f} s; wrote {args.out} (index: "
+          f"{args.out / 'index.csv'})", file=sys.stderr)
+    if failed:
+        raise SystemExit(1)
+
+
+def build_scenes(scenes_option, scene_text, grid):
+    """name -> Scene: every entry of the scenes file (or FILE:ENTRY), ``scene_text`` laid over
+    each, then each point of ``grid`` ([(key, [value, ...])], their product); all checked."""
+    path, child = parse_scene_option(scenes_option)
+    if not grid and child is None:
+        return load_scene_file(path, scene_text or None)
+    if not grid:
+        return {child: load_scene(path, child=child, scene_text=scene_text or None)}
+    bases = [child] if child is not None else list(load_scene_file(path))
+    scenes = {}
+    for point in itertools.product(*[[(key, v) for v in values] for key, values in grid]):
+        text = overlay(scene_text, point)
+        for base in bases:
+            name = f"{base}[{','.join(f'{k}={v}' for k, v in point)}]"
+            try:
+                scenes[name] = load_scene(path, child=base, scene_text=text)
+            except SceneError as e:
+                raise SceneError(f"scene {name}: {e}") from None
+    return scenes
+
+
+def overlay(scene_text, point):
+    """YAML text: ``scene_text`` with each (dotted key, YAML value) of ``point`` laid in."""
+    try:
+        data = yaml_load(data=scene_text) if scene_text.strip() else {}
+    except Exception as e:
+        raise SceneError(f"--scene_text {scene_text!r}: not YAML: {_one_line(e)}") from None
+    if not isinstance(data, dict):
+        raise SceneError(f"--scene_text {scene_text!r}: must be a mapping of scene keys")
+    for key, value in point:
+        node, parts = data, key.split(".")
+        for i, part in enumerate(parts):
+            here = ".".join(parts[:i + 1])
+            last = i == len(parts) - 1
+            if part in node and (last or not isinstance(node[part], dict)):
+                raise SceneError(f"--grid {key}: --scene_text sets {here} too; give it in one "
+                                 "of them")
+            if last:
+                node[part] = yaml_load(data=f"value: {value}")["value"]
+            else:
+                node = node.setdefault(part, {})
+    return yaml_dump(data)
+
+
+def check_sweep_folder(out):
+    """Refuses an --out that is neither new, nor empty, nor a sweep's folder (sweep.json, or
+    index.csv from ``run_sweep``), or that another sweep is writing to."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"--out {out}: is a file, not a folder")
+    if out.is_dir() and any(out.iterdir()) and not any(
+            (out / name).is_file() for name in ("sweep.json", "index.csv")):
+        raise OutputError(f"--out {out}: exists, is not empty and is not a sweep's folder (no "
+                          "sweep.json); choose a new or empty folder, or a sweep's to resume it")
+    probe = out
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        raise OutputError(f"--out {out}: {probe} is not a writable folder")
+    check_unlocked(out)
+
+
+def _grid_option(p, item):
+    key, sep, values = item.partition("=")
+    key, values = key.strip(), [v.strip() for v in values.split(",")]
+    if not sep or not all(key.split(".")) or not all(values):
+        p.error(f"--grid {item!r}: must be {GRID_FORM}")
+    if len(set(values)) < len(values):
+        p.error(f"--grid {item!r}: a value is given twice")
+    for v in values:
+        try:
+            yaml_load(data=f"value: {v}")
+        except Exception:
+            p.error(f"--grid {item!r}: {v!r} is not a YAML value")
+    return key, values
+
+
+def _one_line(e):
+    return " ".join(str(e).split())
+
+
+def _count(text):
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"{n} must be >= 1")
+    return n
+
+
+def _log_invocation(out, entry):
+    """sweep.json's record of invocations with ``entry`` appended (written now: the folder is
+    then a sweep's, resumable even if this one is killed)."""
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        log = json.loads((out / "sweep.json").read_text())
+    except (OSError, ValueError):
+        log = {"invocations": []}
+    log["invocations"].append(entry)
+    _write_json(out / "sweep.json", log)
+    return log
+
+
+def _write_json(path, data):
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}")
+    tmp.write_text(json.dumps(data, indent=1) + "\n")
+    os.replace(tmp, path)
+
+
+@contextlib.contextmanager
+def _terminate_as_exit():
+    """SIGTERM raises SystemExit once (a second one during the cleanup is ignored): the sweep
+    cancels what is left, closes its cluster and rebuilds the index, as on Ctrl-C."""
+    def handler(signum, frame):
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise SystemExit(128 + signum)
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread: leave the signal alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+if __name__ == "__main__":
+    cli.run_main(main)

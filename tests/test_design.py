@@ -1,0 +1,120 @@
+"""The design study: scenes from factor values, outcomes from runs (on synthetic and real
+histories), Sobol indices on a function with known indices, and the whole study as a smoke run
+(--quick)."""
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from drake_car.data import resource
+from drake_car.scene.load import SceneError
+from drake_car.study import design_runs
+from drake_car.study.design import load_study, outcomes, paper_value, rough_road, with_value
+from drake_car.study.sensitivity import sobol_indices, sobol_points
+
+ROOT = Path(__file__).resolve().parents[1]
+STUDY = load_study(resource("scenes/design_study.yaml"), "study")
+
+
+def test_factor_values_set_the_scene_and_mu_d_follows_mu_s():
+    scene = with_value(STUDY, {"friction.law.mu_s": 0.4,
+                               "car.front.ball_joint_offset_b_m": 0.05}, name="x")
+    assert scene.friction.law.mu_s == 0.4
+    assert scene.friction.law.mu_d == pytest.approx(0.75 * 0.4)
+    assert scene.car.front.ball_joint_offset_b_m == 0.05 and scene.name == "x"
+    with pytest.raises(SceneError, match="ball_joint_offset_b_m"):
+        with_value(STUDY, {"car.front.ball_joint_offset_b_m": 10.0})
+    with pytest.raises(SceneError, match="no field 'nonsense'"):
+        with_value(STUDY, {"car.front.nonsense": 1.0})
+
+
+def test_every_factor_range_makes_valid_scenes_and_the_paper_values_are_stated():
+    for f in STUDY.factors:
+        assert f.reason, f.key
+        assert f.low < paper_value(STUDY, f) < f.high or math.isclose(
+            paper_value(STUDY, f), f.low) or math.isclose(paper_value(STUDY, f), f.high), f.key
+
+
+def test_rough_roads_are_seeded_and_flat_where_the_manoeuvre_is():
+    x1, z1 = rough_road(STUDY, 3)
+    x2, z2 = rough_road(STUDY, 3)
+    assert z1 == z2 and rough_road(STUDY, 4)[1] != z1
+    assert max(abs(z) for z in z1) <= STUDY.monte_carlo.roughness_m
+    assert z1[-1] == 0.0 and x1[-1] > STUDY.monte_carlo.length_m
+
+
+def test_outcomes_of_a_synthetic_history():
+    """A lasting split of 40 N (1 % of a 4 kN corner) after the lane change, one rod stuck
+    throughout and one half of the time, the rack force changed by 30 N."""
+    scene = STUDY.base
+    timeline = scene.manoeuvre.timeline
+    t = np.arange(0.0, timeline.duration_s + 1e-9, 0.01)
+    after = t >= timeline.boundaries()[2]
+    h = {"t": t, "Fz_fl_N": 4000.0 + 20.0 * after, "Fz_fr_N": 4000.0 - 20.0 * after,
+         "d_left_m": 0.14 + 0.002 * after, "d_right_m": np.full_like(t, 0.14),
+         "rack_force_N": 30.0 * after, "yaw_rad": np.zeros_like(t), "y_m": np.zeros_like(t),
+         "speed_mps": np.full_like(t, 16.7),
+         "friction_left_translation_phase": np.zeros_like(t),
+         "friction_right_translation_phase": (t > t[-1] / 2).astype(float)}
+    out = outcomes(h, scene, STUDY)
+    assert out["split_change_N"] == pytest.approx(40.0)
+    assert out["split_change_rel"] == pytest.approx(0.01)
+    assert out["rack_force_change_N"] == pytest.approx(30.0)
+    assert out["dd_left_b_m"] - out["dd_left_a_m"] == pytest.approx(0.002)
+    assert out["stuck_left"] == 1.0 and 0.4 < out["stuck_right"] < 0.6
+    assert math.isnan(out["pull_deg"])  # hands on: no pull
+
+
+def test_sobol_indices_of_a_known_function():
+    """Y = x1 + 0.2 x2 over uniform factors: x1 carries var 1/12, x2 0.04/12: S1 ≈ ST ≈ 0.96
+    and 0.04, the rest 0; with 256 base samples the estimates lie within their intervals."""
+    points = sobol_points(STUDY)
+    keys = [f.key for f in STUDY.factors]
+    lows = {f.key: f.low for f in STUDY.factors}
+    spans = {f.key: f.high - f.low for f in STUDY.factors}
+    unit = [{k: (p[k] - lows[k]) / spans[k] for k in keys} for p in points]
+    y = [u[keys[0]] + 0.2 * u[keys[1]] for u in unit]
+    rows = {r["factor"]: r for r in sobol_indices(STUDY, y)}
+    assert rows[keys[0]]["ST"] == pytest.approx(1 / 1.04, abs=rows[keys[0]]["ST_conf"] + 0.05)
+    assert rows[keys[1]]["ST"] == pytest.approx(0.04 / 1.04, abs=rows[keys[1]]["ST_conf"] + 0.02)
+    for k in keys[2:]:
+        assert abs(rows[k]["ST"]) <= rows[k]["ST_conf"] + 0.01
+    assert len(points) == STUDY.sobol_base_samples * (len(keys) + 2)
+
+
+def test_the_study_s_runs():
+    quick = design_runs.quick(STUDY)
+    maps = design_runs.map_scenes(quick)
+    assert len(maps) == sum(m.points ** 2 for m in quick.maps)
+    mc = design_runs.monte_carlo_scenes(quick)
+    scene = next(iter(mc.values()))[0]
+    assert scene.steering.release_s > scene.manoeuvre.timeline.boundaries()[2]
+    assert len(design_runs.mitigation_scenes(quick)) == (len(quick.mitigations)
+                                                         * quick.mitigation_samples)
+
+
+@pytest.mark.slow
+def test_design_study_quick_end_to_end(tmp_path):
+    out = tmp_path / "design"
+    command = [sys.executable, str(ROOT / "experiments" / "design_study.py"), "--out",
+               str(out), "--quick"]
+    result = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr[-3000:]
+    study = out / "study"
+    for name in ("report.md", "table.csv", "summary.json", "sobol.png", "monte_carlo.png",
+                 "map0_split_change_rel.png", "map0_pull_deg.png"):
+        assert (study / name).stat().st_size > 0, name
+    summary = json.loads((study / "summary.json").read_text())
+    assert summary["runs"]["failed"] == 0 and summary["answers"]
+    table = (study / "table.csv").read_text().splitlines()
+    assert len(table) - 1 == summary["runs"]["total"]
+    # Rerunning reuses every finished run.
+    again = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
+    assert again.returncode == 0
+    assert json.loads((study / "summary.json").read_text())["runs"]["reused"] == \
+        summary["runs"]["total"]
