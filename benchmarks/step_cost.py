@@ -4,17 +4,18 @@ difference goes (each LeafSystem's Python).
 The plant alone: the same car, actuators, SAP pacer and plant configuration in a Diagram whose
 inputs come from Drake's C++ constant sources, holding the values the whole Diagram fed it at
 ``--t0_s`` (a car accelerating, struts stuck or sliding), started from the whole Diagram's state
-there. Both are advanced over the same simulated span, interleaved, ``--repeats`` times; the
-report gives medians and their ratio (compare ratios, not seconds: this machine is shared).
-A cProfile of the whole Diagram splits its Python by system (cumulative times scaled to the
-plain run's Python share).
+there. Both are advanced over the same simulated span, interleaved, ``--repeats`` times: the
+whole Diagram as a study run advances it (in the divergence monitor's chunks, the checks
+included), the plant alone in one call. The report gives medians of the wall time and of the
+process's CPU time and their ratios, with the load average (compare ratios, not seconds: this
+machine is shared; the CPU time is the steadier of the two under load). One more run of the whole
+Diagram times each Python system's callbacks in place.
 
   python benchmarks/step_cost.py [--scene a_3] [--time_step_s 1e-3] [--repeats 5] [--out DIR]
 """
 
 import argparse
-import cProfile
-import pstats
+import os
 import statistics
 import time
 from pathlib import Path
@@ -27,36 +28,51 @@ from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import ConstantValueSource, ConstantVectorSource
 
 from drake_car.data import resource
+from drake_car.model.channels import CarChannels
 from drake_car.model.car import add_car
 from drake_car.model.drive import add_drive_actuators
 from drake_car.model.struts import declare_strut_friction
 from drake_car.scene.load import load_scene
 from drake_car.scene.scene import PrescribedRotation
+from drake_car.sim.monitor import Monitor
 from drake_car.sim.outputs import output_folder, provenance, write_json
 from drake_car.sim.simulate import Runner
+from drake_car.systems.strut_friction import StrutFriction
+from drake_car.systems.tyre import TyreSystem
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 
-# The callbacks Drake calls into each Python system (cumulative times are disjoint; the cache
-# calculations they trigger are inside them).
+# The callbacks Drake calls into each Python system, by class (the cache and port calculations
+# they trigger are inside them).
 SYSTEMS = {
-    "tyres (incl. Magic Formula)": ("systems/tyre.py", ("_calc_forces", "_update",
-                                                        "_calc_diagnostics", "_calc_loads")),
-    "strut friction": ("systems/strut_friction.py", ("_update", "_write_gains")),
-    "driveshafts": ("systems/driveshaft.py", ("_calc",)),
-    "divergence monitor": ("sim/monitor.py", ("check",)),
-    "logged channels": ("model/channels.py", ("_calc_chassis", "_calc_steering",
-                                              "_calc_struts", "_calc_energy")),
+    "tyres and driveshafts": (TyreSystem, ("_update",)),
+    "strut friction": (StrutFriction, ("_update",)),
+    "strut friction's PD gains": (StrutFriction, ("_write_gains",)),
+    "divergence monitor": (Monitor, ("check",)),
+    "logged channels": (CarChannels, ("_calc_chassis", "_calc_steering", "_calc_struts",
+                                      "_calc_energy", "_calc_top_mounts")),
 }
 
 
+def _clocks():
+    """(wall, this process's CPU) seconds: on a shared machine the CPU time is the steadier
+    measure (other processes' load stretches the wall time, less the CPU time)."""
+    return time.perf_counter(), time.process_time()
+
+
+def _since(began):
+    wall, cpu = _clocks()
+    return wall - began[0], cpu - began[1]
+
+
 def whole_diagram(scene, t0, span):
-    """Seconds of wall time for ``span`` simulated seconds from ``t0``, and the Runner."""
+    """(wall, CPU) seconds for ``span`` simulated seconds from ``t0``, and the Runner. The span
+    runs as a study run does: in the divergence monitor's chunks (``Runner.advance_to``)."""
     runner = Runner(scene)
     runner.start()
     runner.advance_to(t0)
-    began = time.perf_counter()
-    runner.simulator.AdvanceTo(t0 + span)
-    return time.perf_counter() - began, runner
+    began = _clocks()
+    runner.advance_to(t0 + span)
+    return _since(began), runner
 
 
 def plant_alone(scene, runner, span):
@@ -108,28 +124,41 @@ def plant_alone(scene, runner, span):
     plant.SetPositionsAndVelocities(plant.GetMyMutableContextFromRoot(context),
                                     full.plant.GetPositionsAndVelocities(pc))
     simulator.Initialize()
-    began = time.perf_counter()
+    began = _clocks()
     simulator.AdvanceTo(root.get_time() + span)
-    return time.perf_counter() - began
+    return _since(began)
 
 
-def profile_split(scene, t0, span, python_wall, steps):
-    profiler = cProfile.Profile()
-    runner = Runner(scene)
-    runner.start()
-    runner.advance_to(t0)
-    profiler.enable()
-    runner.advance_to(t0 + span)
-    profiler.disable()
-    stats = pstats.Stats(profiler).stats
-    python_profiled = sum(v[2] for k, v in stats.items()
-                          if not (k[0] == "~" and "AdvanceTo" in k[2]))
-    split = {}
-    for name, (path, functions) in SYSTEMS.items():
-        cumulative = sum(v[3] for k, v in stats.items()
-                         if k[0].endswith(path) and k[2] in functions)
-        split[name] = 1e6 * cumulative / max(python_profiled, 1e-12) * python_wall / steps
-    return split
+def callback_split(scene, t0, span, steps):
+    """µs per step spent inside each system's callbacks (``SYSTEMS``), timed in a run of the
+    whole Diagram by wrapping them (a timer call on either side: ~0.1 µs each)."""
+    spent = {name: 0 for name in SYSTEMS}
+    originals = []
+    for name, (cls, methods) in SYSTEMS.items():
+        for method in methods:
+            if not hasattr(cls, method):
+                continue
+            original = getattr(cls, method)
+            originals.append((cls, method, original))
+
+            def timed(*args, _original=original, _name=name, **kwargs):
+                began = time.perf_counter_ns()
+                try:
+                    return _original(*args, **kwargs)
+                finally:
+                    spent[_name] += time.perf_counter_ns() - began
+            setattr(cls, method, timed)
+    try:
+        runner = Runner(scene)
+        runner.start()
+        runner.advance_to(t0)
+        for name in spent:
+            spent[name] = 0
+        runner.advance_to(t0 + span)
+    finally:
+        for cls, method, original in originals:
+            setattr(cls, method, original)
+    return {name: ns * 1e-3 / steps for name, ns in spent.items()}
 
 
 def main():
@@ -147,24 +176,40 @@ def main():
     scene = load_scene(resource("scenes/paper_study.yaml"), child=args.scene,
                        scene_text=f"plant: {{time_step: {args.time_step_s!r}}}")
     steps = round(args.span_s / args.time_step_s)
-    whole, alone = [], []
+    load_before = os.getloadavg()
+    clocks = ("wall", "cpu")
+    whole, alone = {c: [] for c in clocks}, {c: [] for c in clocks}
     for _ in range(args.repeats):  # interleaved: drift hits both alike
-        wall, runner = whole_diagram(scene, args.t0_s, args.span_s)
-        whole.append(1e6 * wall / steps)
-        alone.append(1e6 * plant_alone(scene, runner, args.span_s) / steps)
-    w, a = statistics.median(whole), statistics.median(alone)
-    split = profile_split(scene, args.t0_s, args.span_s, (w - a) * steps * 1e-6, steps)
-    print(f"{args.scene} at {args.time_step_s:g} s, median of {args.repeats}: whole Diagram "
-          f"{w:.0f} µs/step, plant alone {a:.0f} µs/step, ratio {w / a:.2f}")
-    print(f"  beyond the plant: {w - a:.0f} µs/step, of which (profile split):")
+        times, runner = whole_diagram(scene, args.t0_s, args.span_s)
+        for clock, seconds in zip(clocks, times):
+            whole[clock].append(1e6 * seconds / steps)
+        for clock, seconds in zip(clocks, plant_alone(scene, runner, args.span_s)):
+            alone[clock].append(1e6 * seconds / steps)
+    load_after = os.getloadavg()
+    w = {c: statistics.median(whole[c]) for c in clocks}
+    a = {c: statistics.median(alone[c]) for c in clocks}
+    ratio = {c: w[c] / a[c] for c in clocks}
+    split = callback_split(scene, args.t0_s, args.span_s, steps)
+    print(f"{args.scene} at {args.time_step_s:g} s, median of {args.repeats}, load average "
+          f"{load_before[0]:.2f} before, {load_after[0]:.2f} after (this machine: "
+          f"{os.cpu_count()} cores):")
+    for clock in clocks:
+        print(f"  {clock:4s}: whole Diagram {w[clock]:4.0f} µs/step, plant alone "
+              f"{a[clock]:4.0f} µs/step, ratio {ratio[clock]:.2f}  (ratios of the repeats: "
+              + " ".join(f"{x / y:.2f}" for x, y in zip(whole[clock], alone[clock])) + ")")
+    print(f"  beyond the plant (CPU): {w['cpu'] - a['cpu']:.0f} µs/step, of which inside the "
+          "Python systems' callbacks (wall, timed in one more run):")
     for system, us in split.items():
         print(f"    {system:30s} {us:6.1f} µs/step")
+    print(f"    {'the rest':30s} {w['cpu'] - a['cpu'] - sum(split.values()):6.1f} µs/step "
+          "(Drake's framework and C++ systems; the plant's step itself costs more in the whole "
+          "Diagram than alone)")
     if args.out:
         with output_folder(args.out) as out:
             write_json(out / "step_cost.json", provenance(
-                scene=args.scene, time_step_s=args.time_step_s, whole_us=whole, alone_us=alone,
-                median_whole_us=w, median_alone_us=a, ratio=w / a, python_split_us=split))
-
+                scene=args.scene, time_step_s=args.time_step_s, load_average=[
+                    load_before[0], load_after[0]], whole_us=whole, alone_us=alone,
+                median_whole_us=w, median_alone_us=a, ratio=ratio, callbacks_us=split))
 
 if __name__ == "__main__":
     main()

@@ -1,5 +1,5 @@
 """The design study: where, over the strut's design and the severity of use, does strut
-friction change the front wheel loads and the steering? (scenes/design_study.yaml: the base
+friction change the front wheel loads and the steering? (scenes/studies/design.yaml: the base
 scene, the factors with their ranges and reasons, the maps, the sample sizes.)
 
 Runs, all on the sweep runner (a local Dask cluster, or --scheduler ADDRESS), kept in
@@ -32,7 +32,7 @@ from drake_car.study.sweep_folder import load_run, read_status
 
 def main(argv=None):
     p = cli.parser(__doc__)
-    p.add_argument("--study", default=f"{resource('scenes/design_study.yaml')}:study",
+    p.add_argument("--study", default=f"{resource('scenes/studies/design.yaml')}:study",
                    help="the study's spec, FILE:ENTRY (default: %(default)s)")
     p.add_argument("--quick", action="store_true", help="a smoke run of every part")
     p.add_argument("--scheduler", default=None, help="a Dask scheduler's address")

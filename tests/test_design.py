@@ -18,7 +18,7 @@ from drake_car.study.design import load_study, outcomes, paper_value, rough_road
 from drake_car.study.sensitivity import sobol_indices, sobol_points
 
 ROOT = Path(__file__).resolve().parents[1]
-STUDY = load_study(resource("scenes/design_study.yaml"), "study")
+STUDY = load_study(resource("scenes/studies/design.yaml"), "study")
 
 
 def test_factor_values_set_the_scene_and_mu_d_follows_mu_s():

@@ -13,7 +13,6 @@ from drake_car.scene.scene import MeshcatReplay, PrescribedRotation
 from drake_car.sim.build import build_diagram
 from drake_car.sim.outputs import read_csv, write_csv
 from drake_car.sim.simulate import simulate
-from drake_car.systems.driveshaft import DriveshaftReaction
 from drake_car.systems.sap_pacer import PACER_MASS_KG
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.tyre import TyreSystem
@@ -39,7 +38,8 @@ def test_a_system_is_there_if_and_only_if_its_effect_is_on(path, child):
     assert TyreSystem in kinds
     drives_through_body = scene.manoeuvre.drives and not (
         isinstance(scene.drive, PrescribedRotation) and scene.drive.reaction == "knuckle")
-    assert (DriveshaftReaction in kinds) == drives_through_body
+    tyres = next(s for s in systems if isinstance(s, TyreSystem))  # reacts the drive torque
+    assert tyres.HasInputPort("net_actuation") == drives_through_body
     names = {s.get_name() for s in systems}
     assert ("sap_pacer_target" in names) == scene.simulator.sap_pacer
     loggers = {n[len("log_"):] for n in names if n.startswith("log_")}

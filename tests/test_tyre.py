@@ -33,12 +33,13 @@ def test_radial_force_never_pulls():
         RadialTyre(0.3, 0.0, 1.0)
 
 
-def tyres_on_the_car(road=None):
+def tyres_on_the_car(road=None, kinematics="ports"):
     """The tyre system for the car's wheels, alone, with its default context."""
     plant = MultibodyPlant(time_step=1e-3)
     car = add_car(plant)
     plant.Finalize()
-    tyres = TyreSystem(car.wheel_bodies(), TYRE, *([] if road is None else [road]))
+    tyres = TyreSystem(car.wheel_bodies(), TYRE, *([] if road is None else [road]),
+                       time_step_s=1e-3, kinematics=kinematics)
     return plant, car, tyres, tyres.CreateDefaultContext()
 
 
@@ -46,8 +47,8 @@ def test_tyre_system_alone():
     plant, car, tyres, context = tyres_on_the_car()
     assert [tyres.get_input_port(i).get_name() for i in range(2)] == [
         "body_poses", "body_spatial_velocities"]
-    assert [tyres.get_output_port(i).get_name() for i in range(2)] == [
-        "tyre_forces", "tyre_loads"]
+    assert [tyres.get_output_port(i).get_name() for i in range(3)] == [
+        "tyre_wrenches", "tyre_loads", "tyre_diagnostics"]
     poses = [RigidTransform() for _ in range(plant.num_bodies())]
     velocities = [SpatialVelocity.Zero() for _ in range(plant.num_bodies())]
     bodies = car.wheel_bodies()
@@ -57,18 +58,69 @@ def test_tyre_system_alone():
     velocities[int(bodies["fl"].index())] = SpatialVelocity(np.zeros(3), [0, 0, -0.1])
     tyres.GetInputPort("body_poses").FixValue(context, poses)
     tyres.GetInputPort("body_spatial_velocities").FixValue(context, velocities)
+    # The outputs are state: computed by the initialization event, then by each step's update.
+    tyres.ExecuteInitializationEvents(context)
     loads = tyres.GetOutputPort("tyre_loads").Eval(context)
     expected = [2.0e5 * 0.01 * (i + 1) for i in range(4)]
     expected[0] += 300.0 * 0.1  # compressing at 0.1 m/s
     assert_allclose(loads[:4], expected, rtol=1e-9)
     assert_allclose(loads[4:], [0.01, 0.02, 0.03, 0.04], rtol=1e-9)
-    forces = tyres.GetOutputPort("tyre_forces").Eval(context)
-    assert len(forces) == 4
-    for i, (force, w, fz) in enumerate(zip(forces, WHEELS, expected)):
-        assert force.body_index == bodies[w].index()
-        assert_allclose(force.F_Bq_W.translational(), [0, 0, fz], rtol=1e-9)
-        # Applied at the contact point on the road: R - deflection below the centre.
-        assert_allclose(np.linalg.norm(force.p_BoBq_B), 0.3 - 0.01 * (i + 1), rtol=1e-9)
+    wrenches = tyres.GetOutputPort("tyre_wrenches").Eval(context)
+    assert len(wrenches) == 6 * 4
+    for i, (w, fz) in enumerate(zip(WHEELS, expected)):
+        # Force and moment about the centre in the wheel's frame: straight up in world, and no
+        # moment (the contact point lies right below the centre of an upright wheel).
+        rotation = poses[int(bodies[w].index())].rotation()
+        assert_allclose(rotation.multiply(wrenches[6 * i:6 * i + 3]), [0, 0, fz], atol=1e-9)
+        assert_allclose(wrenches[6 * i + 3:6 * i + 6], 0.0, atol=1e-9)
+    # Drake's C++ applies them: per wheel its force and moment along the wheel's axes.
+    applier = tyres.make_applier()
+    applier_context = applier.CreateDefaultContext()
+    applier.get_command_input_port().FixValue(applier_context, wrenches)
+    applier.get_body_poses_input_port().FixValue(applier_context, poses)
+    forces = applier.get_spatial_forces_output_port().Eval(applier_context)
+    assert len(forces) == 6 * 4
+    for i, (w, fz) in enumerate(zip(WHEELS, expected)):
+        mine = forces[6 * i:6 * i + 6]
+        assert all(f.body_index == bodies[w].index() for f in mine)
+        total = sum(f.F_Bq_W.get_coeffs() for f in mine)
+        assert_allclose(total, [0, 0, 0, 0, 0, fz], atol=1e-9)
+
+
+def test_state_kinematics_equal_the_plant_s():
+    """The wheels' motion from the plant's state (compiled kinematics) gives the same forces as
+    from the plant's pose and velocity lists, at a state with every coordinate moved."""
+    from drake_car.law.magic_formula import MagicFormulaTyre
+    from drake_car.data import resource
+    magic = MagicFormulaTyre.from_file(str(resource("urdf/tyres/pacejka2006_205_60R15.tir")))
+    plant = MultibodyPlant(time_step=1e-3)
+    car = add_car(plant)
+    plant.Finalize()
+    plant_context = plant.CreateDefaultContext()
+    rng = np.random.default_rng(1)
+    q = plant.GetPositions(plant_context) + rng.uniform(-0.02, 0.02, plant.num_positions())
+    q[car.body("chassis").floating_positions_start() + 6] -= 0.02  # the body 2 cm lower
+    plant.SetPositions(plant_context, q)
+    plant.SetVelocities(plant_context, rng.uniform(-3, 3, plant.num_velocities()))
+    outputs = {}
+    for kinematics in ("state", "ports"):
+        tyres = TyreSystem(car.wheel_bodies(), TYRE, magic_formula_tyre=magic, time_step_s=1e-3,
+                           kinematics=kinematics)
+        context = tyres.CreateDefaultContext()
+        if kinematics == "state":
+            tyres.GetInputPort("plant_state").FixValue(
+                context, plant.GetPositionsAndVelocities(plant_context))
+        else:
+            tyres.GetInputPort("body_poses").FixValue(
+                context, plant.get_body_poses_output_port().Eval(plant_context))
+            tyres.GetInputPort("body_spatial_velocities").FixValue(
+                context, plant.get_body_spatial_velocities_output_port().Eval(plant_context))
+        tyres.ExecuteInitializationEvents(context)
+        outputs[kinematics] = [tyres.GetOutputPort(name).Eval(context).copy()
+                               for name in ("tyre_wrenches", "tyre_loads", "tyre_diagnostics")]
+    assert np.max(outputs["state"][1][:4]) > 100.0, "the wheels touch the road"
+    for state, ports in zip(outputs["state"], outputs["ports"]):
+        assert_allclose(state, ports, rtol=1e-9, atol=1e-9)
 
 
 def test_road_profiles():
@@ -103,5 +155,6 @@ def test_tyre_load_on_a_bump():
     tyres.GetInputPort("body_poses").FixValue(context, poses)
     tyres.GetInputPort("body_spatial_velocities").FixValue(
         context, [SpatialVelocity.Zero()] * plant.num_bodies())
+    tyres.ExecuteInitializationEvents(context)
     loads = tyres.GetOutputPort("tyre_loads").Eval(context)
     assert_allclose(loads[:4], [2.0e5 * 0.02, 0, 0, 0], atol=1e-6)

@@ -30,7 +30,7 @@ from drake_car.scene.manoeuvres import (
 from drake_car.scene.scene import (
     HandsOff, LinearTyre, MagicFormula, OpenDifferential, PrescribedRotation, Scene)
 from drake_car.sim.actuation import ActuationWiring
-from drake_car.systems.driveshaft import DriveshaftReaction
+from drake_car.systems.driveshaft import Driveshafts
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
@@ -109,9 +109,14 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
         builder.Connect(plant.get_state_output_port(), bar.get_input_port())
         builder.Connect(bar.get_output_port(), plant.get_applied_generalized_force_input_port())
 
-    # 3. Tyres: forces on the wheels from their poses and velocities.
-    tyre = _add_tyres(builder, plant, car, scene)
-    applied = [tyre.GetOutputPort("tyre_forces")]
+    # 3. Tyres: forces on the wheels from their poses and velocities (and the driveshafts'
+    # reaction of the drive torque, which needs the wheels' spin axes too).
+    tyre = _add_tyres(builder, plant, car, scene, _driveshafts(plant, car, scene))
+    applier = builder.AddSystem(tyre.make_applier())
+    applier.set_name("tyre_forces")
+    builder.Connect(tyre.GetOutputPort("tyre_wrenches"), applier.get_command_input_port())
+    builder.Connect(plant.get_body_poses_output_port(), applier.get_body_poses_input_port())
+    applied = [applier.get_spatial_forces_output_port()]
 
     # 4. Strut friction: reactions in, PD targets and feed-forward out.
     friction = None
@@ -124,7 +129,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
 
     # 5. Drive: the speed profile through the front wheels, torque reacted by the body.
     if drives:
-        applied += _add_drive(builder, plant, car, scene, wiring)
+        _add_drive(builder, plant, car, scene, wiring)
 
     # 6. Steering: the rack servo follows the manoeuvre's rack trajectory.
     case_port = None
@@ -201,7 +206,7 @@ def check_stability(scene):
             "friction.scheme: fast")
 
 
-def _add_tyres(builder, plant, car, scene):
+def _add_tyres(builder, plant, car, scene, driveshafts):
     tyres = scene.tyres
     magic = None
     slip = getattr(tyres, "slip", None)
@@ -214,20 +219,33 @@ def _add_tyres(builder, plant, car, scene):
         RadialTyre(v.unloaded_radius_m, v.radial_stiffness_Npm, v.radial_damping_Nspm),
         scene.road, magic_formula_tyre=magic,
         combined=getattr(tyres, "combined_slip", True),
-        linear=isinstance(tyres, LinearTyre), time_step_s=scene.time_step_s, **kwargs))
+        linear=isinstance(tyres, LinearTyre), time_step_s=scene.time_step_s,
+        driveshafts=driveshafts, **kwargs))
     tyre.set_name("tyres")
     try:
         tyre.check_time_step(scene.time_step_s, scene.car.mass.wheel_spin_inertia_kgm2)
     except ValueError as e:
         raise BuildError(f"plant.time_step: {e}") from None
-    builder.Connect(plant.get_body_poses_output_port(), tyre.GetInputPort("body_poses"))
-    builder.Connect(plant.get_body_spatial_velocities_output_port(),
-                    tyre.GetInputPort("body_spatial_velocities"))
+    tyre.connect(builder, plant)
     return tyre
 
 
+def _driveshafts(plant, car, scene):
+    """The driveshafts the tyre system applies (``systems.driveshaft``), or None: the drive
+    torque is reacted by the body unless the scene drives no wheel or prescribes the rotation
+    with the knuckles reacting it."""
+    drive = scene.drive
+    if not scene.manoeuvre.drives or (isinstance(drive, PrescribedRotation)
+                                       and drive.reaction != "driveshaft"):
+        return None
+    return Driveshafts(plant, car.instance, car.drive_actuators,
+                       [car.body(f"knuckle_{side}") for side in ("left", "right")],
+                       car.body("chassis"))
+
+
 def _add_drive(builder, plant, car, scene, wiring):
-    """The drive torque on the front wheels; returns the ports of forces it applies."""
+    """The drive torque on the front wheels (the tyre system reacts it through the
+    driveshafts, ``_driveshafts``)."""
     timeline = scene.manoeuvre.timeline
     drive = scene.drive
     if isinstance(drive, PrescribedRotation):
@@ -235,7 +253,6 @@ def _add_drive(builder, plant, car, scene, wiring):
             wheel_rotation_trajectory(timeline, rolling_radius(scene.car)), 1))
         command.set_name("drive_command")
         wiring.connect("drive", desired=command.get_output_port(0))
-        reacted_by_body = drive.reaction == "driveshaft"
     else:
         assert isinstance(drive, OpenDifferential)
         # Speed controller (all Drake C++ primitives): [plant state; v_ref; a_ref] -> the two
@@ -256,17 +273,6 @@ def _add_drive(builder, plant, car, scene, wiring):
         builder.Connect(gain.get_output_port(), clamp.get_input_port())
         torque = _add_governor(builder, plant, car, scene, drive, clamp.get_output_port())
         wiring.connect("drive", feedforward=torque)
-        reacted_by_body = True
-    if not reacted_by_body:
-        return []
-    shafts = builder.AddSystem(DriveshaftReaction(
-        plant, car.instance, car.drive_actuators,
-        [car.body(f"knuckle_{side}") for side in ("left", "right")], car.body("chassis")))
-    shafts.set_name("driveshafts")
-    builder.Connect(plant.get_net_actuation_output_port(car.instance),
-                    shafts.GetInputPort("net_actuation"))
-    builder.Connect(plant.get_body_poses_output_port(), shafts.GetInputPort("body_poses"))
-    return [shafts.GetOutputPort("reaction_forces")]
 
 
 def _let_go(builder, plant, car, scene, column_pairs):

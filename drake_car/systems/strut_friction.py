@@ -1,6 +1,7 @@
 """The paper's FRD friction on a cylindrical (prismatic + revolute) pair, as a LeafSystem.
 
-The law itself lives in ``drake_car.law.frd_friction``; this system feeds it from the plant
+The law itself lives in ``drake_car.law.frd_friction`` (its per-step evaluation for all pairs,
+compiled with numba, in ``drake_car.law.frd_compiled``); this system feeds it from the plant
 (joint velocities and displacements, the joint's reaction force and moment) and keeps the creep
 as discrete state.
 
@@ -74,16 +75,15 @@ from pydrake.multibody.math import SpatialForce
 from pydrake.multibody.tree import PdControllerGains, PrismaticJoint, RevoluteJoint
 from pydrake.systems.framework import LeafSystem
 
-from drake_car.law.frd_friction import (
-    STATIC, StrutFrictionParameters, advance_creep, friction_coefficient, friction_force,
-    friction_moment, mu_kinetic, normal_force, shape_max_slope)
+from drake_car.law.frd_compiled import friction_step, pack_pair, pack_strut
+from drake_car.law.frd_friction import STATIC, StrutFrictionParameters, shape_max_slope
 from drake_car.systems.failure import SimulationFailure
 from drake_car.systems.friction_pairs import Strut
 
 SCHEMES = ("fast", "reference")
 DIAGNOSTIC_FIELDS = ("v", "creep", "beta", "mu1", "mu", "phase", "N", "friction")
-# Floor on PD gains: Drake removes a controller whose gains are both zero.
-_MIN_GAIN = 1e-9
+_NONE = np.zeros(0)  # the reference scheme has no PD targets or gains
+_NO_REACTION = np.zeros(6)  # a strut with a constant normal force
 
 
 def explicit_time_step_limit_s(mass, normal, law):
@@ -113,10 +113,12 @@ class _StrutData:
         self.constant = strut.constant_normal_force_N
         self.initial = (None if strut.initial_normal_force_N is None
                         else float(strut.initial_normal_force_N))
+        self.joint_index = None
         if self.constant is not None:
             if not (math.isfinite(self.constant) and self.constant >= 0):
                 raise ValueError(f"{name}: constant_normal_force_N = {self.constant} must be "
                                  "a finite number >= 0")
+            self.row = pack_strut(self.params, constant=float(self.constant))
             return
         joint = strut.normal_force_joint or strut.pairs[0].joint
         self.joint_index = int(joint.index())
@@ -125,6 +127,8 @@ class _StrutData:
                 else joint.revolute_axis())
         self.axis = tuple(float(a) for a in np.asarray(axis, dtype=float)
                           / np.linalg.norm(axis))
+        self.row = pack_strut(self.params, initial=self.initial, q_index=self.q_index,
+                              overlap=self.overlap, offset=self.offset, axis=self.axis)
 
 
 class StrutFriction(LeafSystem):
@@ -190,11 +194,16 @@ class StrutFriction(LeafSystem):
                 self._strut_of.append(k)
         self._labels = [struts[k].label for k in self._strut_of]
         self._q_index = [p.joint.position_start() for p in self._pairs]
-        self._v_index = [nq + p.joint.velocity_start() for p in self._pairs]
-        # Per pair, constants of the fast scheme's gains (per unit of the pair's N-scale).
-        self._kd_unit = [shape_max_slope(law.beta_shape) / law.dv for law in self._laws]
-        self._kp_unit = [shape_max_slope(law.creep_shape) * law.mu_s / law.dmax
-                         for law in self._laws]
+        self._actuators = [p.actuator for p in self._pairs]
+        # The per-step computation is law.frd_compiled's: the pairs and struts as arrays.
+        self._pair_rows = np.array([
+            pack_pair(law, self._strut_params[i], rotation=pair.kind == "rotation",
+                      strut=self._strut_of[i], q_index=self._q_index[i],
+                      v_index=nq + pair.joint.velocity_start(),
+                      rod_radius=self._struts[self._strut_of[i]].rod_radius)
+            for i, (pair, law) in enumerate(zip(self._pairs, self._laws))])
+        self._strut_rows = np.array([s.row for s in self._struts])
+        self._no_reactions = np.zeros((len(self._struts), 6))
         n = len(self._pairs)
         self._dt = plant.time_step()
 
@@ -205,20 +214,17 @@ class StrutFriction(LeafSystem):
             self._reaction_port = self.DeclareAbstractInputPort(
                 "reaction_forces", Value[list[SpatialForce]]())
         # Discrete state groups, each computed by the one update per step (per pair):
-        # the creep memory (creep, phase, the joint position at the last update); the
-        # feed-forward (fast) or whole friction (reference) actuation; the fast scheme's PD
-        # targets [q_d..., v_d...] and gains; the diagnostics (DIAGNOSTIC_FIELDS per pair).
-        self._creep = self.DeclareDiscreteState(n)
-        self._phase = self.DeclareDiscreteState(n)
-        self._last_q = self.DeclareDiscreteState(n)
+        # the memory [creep..., phase..., the joint position at the last update...]; the
+        # feed-forward (fast) or whole friction (reference) actuation; the diagnostics
+        # (DIAGNOSTIC_FIELDS per pair); the fast scheme's PD targets [q_d..., v_d...] and gains
+        # [Kp..., Kd..., effort limit...].
+        self._memory = self.DeclareDiscreteState(3 * n)
         self._actuation = self.DeclareDiscreteState(n)
         self._diagnostics = self.DeclareDiscreteState(len(DIAGNOSTIC_FIELDS) * n)
-        self._desired = self._kp = self._kd = self._effort = None
+        self._desired = self._gain_values = None
         if scheme == "fast":
             self._desired = self.DeclareDiscreteState(2 * n)
-            self._kp = self.DeclareDiscreteState(n)
-            self._kd = self.DeclareDiscreteState(n)
-            self._effort = self.DeclareDiscreteState(n)
+            self._gain_values = self.DeclareDiscreteState(3 * n)
         self.DeclareInitializationDiscreteUpdateEvent(self._initialize)
         self.DeclarePeriodicDiscreteUpdateEvent(self._dt, 0.0, self._update)
         self._actuation_port = self.DeclareStateOutputPort("friction_actuation",
@@ -259,107 +265,51 @@ class StrutFriction(LeafSystem):
         return self._scheme
 
     # -- the computation ----------------------------------------------------------------------
-    def _normal_force(self, x, strut, reactions, t, initial):
-        if strut.constant is not None:
-            return float(strut.constant)
-        if initial and strut.initial is not None:
-            return strut.initial
-        q = x[strut.q_index]
-        overlap = strut.overlap[0] + strut.overlap[1] * q
-        if not overlap > 0:
+    def _initialize(self, context, discrete_state):
+        # Memory: no creep, static, at the initial positions; then the step's values from it.
+        x = self._state_port.Eval(context)
+        n = len(self._pairs)
+        memory = discrete_state.get_mutable_value(self._memory)
+        memory[:n] = 0.0
+        memory[n:2 * n] = STATIC
+        memory[2 * n:] = x[self._q_index]
+        self._compute(context, discrete_state, x, context.get_time(), initial=True)
+
+    def _update(self, context, discrete_state):
+        # The plant has stepped: x is x_{k+1}, at time t + dt.
+        self._compute(context, discrete_state, self._state_port.Eval(context),
+                      context.get_time() + self._dt, initial=False)
+
+    def _compute(self, context, discrete_state, x, t, initial):
+        """Advances the creep memory (in ``discrete_state``) to the plant state ``x`` and
+        computes the friction, the fast scheme's PD targets and gains, and the diagnostics,
+        into ``discrete_state`` (``law.frd_compiled.friction_step``)."""
+        reactions = self._no_reactions
+        if self._reaction_port is not None:
+            forces = self._reaction_port.Eval(context)
+            reactions = np.array([forces[s.joint_index].get_coeffs()
+                                  if s.joint_index is not None else _NO_REACTION
+                                  for s in self._struts])
+        value = discrete_state.get_mutable_value
+        fast = self._scheme == "fast"
+        failed = friction_step(x, reactions, initial, fast, self._pair_rows, self._strut_rows,
+                               value(self._memory), value(self._actuation),
+                               value(self._diagnostics),
+                               value(self._desired) if fast else _NONE,
+                               value(self._gain_values) if fast else _NONE)
+        if failed >= 0:
+            strut = self._struts[failed]
+            overlap = strut.overlap[0] + strut.overlap[1] * x[strut.q_index]
             raise SimulationFailure(
                 f"{self._name}: overlap d = {overlap:.4g} m <= 0 at t = {t:.4f} s"
                 f"{' on strut ' + strut.label if strut.label else ''}"
                 " (the rod has left the cylinder's guide)")
-        mx, my, mz, fx, fy, fz = reactions[strut.joint_index].get_coeffs().tolist()
-        ux, uy, uz = strut.axis
-        offset = strut.offset[0] + strut.offset[1] * q
-        mx += offset * (uy * fz - uz * fy)
-        my += offset * (uz * fx - ux * fz)
-        mz += offset * (ux * fy - uy * fx)
-        f_axial = fx * ux + fy * uy + fz * uz
-        m_axial = mx * ux + my * uy + mz * uz
-        return normal_force(
-            (fx - f_axial * ux, fy - f_axial * uy, fz - f_axial * uz),
-            (mx - m_axial * ux, my - m_axial * uy, mz - m_axial * uz),
-            overlap, strut.params.preload_force_N, strut.params.mu_s,
-            strut.params.normal_force_form, axis=strut.axis)
-
-    def _initialize(self, context, discrete_state):
-        # Memory: no creep, static, at the initial positions; then the step's values from it.
-        x = self._state_port.Eval(context).tolist()
-        n = len(self._pairs)
-        self._compute(context, discrete_state, x, [0.0] * n, [STATIC] * n,
-                      [x[i] for i in self._q_index], context.get_time(), initial=True)
-
-    def _update(self, context, discrete_state):
-        # The plant has stepped: x is x_{k+1}, at time t + dt.
-        value = context.get_discrete_state
-        self._compute(context, discrete_state, self._state_port.Eval(context).tolist(),
-                      value(self._creep).get_value().tolist(),
-                      value(self._phase).get_value().tolist(),
-                      value(self._last_q).get_value().tolist(),
-                      context.get_time() + self._dt, initial=False)
-
-    def _compute(self, context, discrete_state, x, creeps, phases, last_q, t, initial):
-        """Advances the creep memory to the plant state ``x`` and computes the friction, the
-        fast scheme's PD targets and gains, and the diagnostics, into ``discrete_state``."""
-        reactions = (self._reaction_port.Eval(context) if self._reaction_port is not None
-                     else None)
-        normals = [self._normal_force(x, s, reactions, t, initial) for s in self._struts]
-        fast = self._scheme == "fast"
-        n = len(self._pairs)
-        new_creep, new_phase, new_q = [0.0] * n, [0.0] * n, [0.0] * n
-        actuation, diagnostics = [0.0] * n, []
-        desired_q, desired_v = [0.0] * n, [0.0] * n
-        kp, kd, effort = [_MIN_GAIN] * n, [_MIN_GAIN] * n, [_MIN_GAIN] * n
-        for i, (pair, law) in enumerate(zip(self._pairs, self._laws)):
-            strut = self._struts[self._strut_of[i]]
-            normal = normals[self._strut_of[i]]
-            q = x[self._q_index[i]]
-            v = x[self._v_index[i]]
-            creep, phase = advance_creep(creeps[i], phases[i], v, q - last_q[i], law)
-            new_creep[i], new_phase[i], new_q[i] = creep, phase, q
-            mu, beta, mu1, _ = friction_coefficient(v, creep, law)
-            # What μ multiplies: N for the translation pair (eq. 5, N with F0/μs of eq. 4),
-            # N r + M0/μs for the rotation pair (eq. 6).
-            law_params = self._strut_params[i]
-            scale = (friction_force(1.0, normal) if pair.kind == "translation" else
-                     friction_moment(1.0, normal, strut.rod_radius,
-                                     law_params.preload_moment_Nm, law_params.mu_s))
-            force = mu * scale
-            diagnostics += [v, creep, beta, mu1, mu, phase, normal, force]
-            if not fast:
-                actuation[i] = force
-                continue
-            # |∂F/∂v| ≤ s'_β (μs + μ1) N / Δv in the static phase (v opposing the creep).
-            kd[i] = max(self._kd_unit[i] * (law.mu_s + mu1) * scale, _MIN_GAIN)
-            desired_q[i] = q
-            if phase == STATIC:
-                actuation[i] = force
-                desired_v[i] = v
-                kp[i] = max(self._kp_unit[i] * scale, _MIN_GAIN)
-                effort[i] = max(law.mu_s * scale, _MIN_GAIN)
-            else:
-                effort[i] = max(mu_kinetic(v, law) * scale, _MIN_GAIN)
-        discrete_state.set_value(self._creep, new_creep)
-        discrete_state.set_value(self._phase, new_phase)
-        discrete_state.set_value(self._last_q, new_q)
-        discrete_state.set_value(self._actuation, actuation)
-        discrete_state.set_value(self._diagnostics, diagnostics)
-        if fast:
-            discrete_state.set_value(self._desired, desired_q + desired_v)
-            discrete_state.set_value(self._kp, kp)
-            discrete_state.set_value(self._kd, kd)
-            discrete_state.set_value(self._effort, effort)
 
     def _write_gains(self, context):
-        value = context.get_discrete_state
-        kp = value(self._kp).get_value().tolist()
-        kd = value(self._kd).get_value().tolist()
-        effort = value(self._effort).get_value().tolist()
+        values = context.get_discrete_state(self._gain_values).get_value().tolist()
+        n = len(self._actuators)
         gains = self._gains
-        for i, pair in enumerate(self._pairs):
-            gains.p, gains.d = kp[i], kd[i]
-            pair.actuator.set_controller_gains(gains)
-            pair.actuator.set_effort_limit(effort[i])
+        for i, actuator in enumerate(self._actuators):
+            gains.p, gains.d = values[i], values[n + i]
+            actuator.set_controller_gains(gains)
+            actuator.set_effort_limit(values[2 * n + i])

@@ -1,20 +1,21 @@
 """Tyre forces on the four wheels as a LeafSystem: radial stiffness and damping at one contact
 point per wheel, plus (optionally) the Magic Formula's horizontal forces and moments."""
 
-import typing
+import numpy as np
+from pydrake.common.value import Value
+from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.multibody.math import SpatialVelocity
+from pydrake.multibody.plant import Propeller, PropellerInfo
+from pydrake.multibody.tree import BodyIndex
+from pydrake.systems.framework import LeafSystem
 
-from pydrake.common.value import AbstractValue, Value
-from pydrake.math import RigidTransform
-from pydrake.multibody.math import SpatialForce, SpatialVelocity
-from pydrake.multibody.plant import ExternallyAppliedSpatialForce
-from pydrake.systems.framework import BasicVector, LeafSystem, ValueProducer
-
-from drake_car.law.magic_formula import linear_tyre, magic_formula
+from drake_car.law.magic_formula import magic_formula
 from drake_car.law.road import Flat
-from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
+from drake_car.law.tyre_compiled import pack_coefficients, pack_config, pack_road, tyre_step
+from drake_car.law.tyre_contact import RadialTyre
+from drake_car.law.tyre_slip import SlipOptions
+from drake_car.systems.body_kinematics import BodyKinematics
 from drake_car.systems.failure import SimulationFailure
-from drake_car.law.tyre_slip import (
-    SlipOptions, contact_kinematics, low_speed_weight, relax, steady_slips, transient_slips)
 
 WHEELS = ("fl", "fr", "rl", "rr")
 # A tyre's Magic Formula holds up to a few times its nominal load; far beyond it the state has
@@ -22,27 +23,11 @@ WHEELS = ("fl", "fr", "rl", "rr")
 MAX_LOAD_RATIO = 50.0
 DIAGNOSTIC_FIELDS = ("Fx_N", "Fy_N", "Fz_N", "Mz_Nm", "kappa", "alpha_rad", "gamma_rad",
                      "vx_mps", "deflection_m")
-
-
-class _Contact(typing.NamedTuple):
-    """One wheel's contact kinematics (cached per step)."""
-
-    body_index: int
-    p_body: list  # contact point in the wheel's frame
-    point: tuple  # contact point in world
-    deflection: float
-    fz: float
-    kinematics: object  # law.tyre_slip.ContactKinematics, or None (vertical only)
-
-
-class _Solution(typing.NamedTuple):
-    """One wheel's forces (cached per step)."""
-
-    p_body: list
-    deflection: float
-    force: list  # in world
-    torque: list
-    diagnostics: list  # DIAGNOSTIC_FIELDS
+_NONE = np.zeros(0)  # no drive torques, no relaxation state (never written)
+# Frames P whose z axis is a body's x, y, z axis (exact permutations): a Propeller with P
+# applies its command along (thrust) or about (moment) that axis.
+_AXES = [RigidTransform(RotationMatrix(np.array(m, dtype=float)), np.zeros(3)) for m in (
+    [[0, 0, 1], [1, 0, 0], [0, 1, 0]], [[0, 1, 0], [0, 0, 1], [1, 0, 0]], np.eye(3))]
 
 
 class TyreSystem(LeafSystem):
@@ -52,16 +37,25 @@ class TyreSystem(LeafSystem):
 
         name: TyreSystem
         input_ports:
-        - body_poses
-        - body_spatial_velocities
+        - plant_state (kinematics "state", the default)
+        - body_poses (kinematics "ports")
+        - body_spatial_velocities (kinematics "ports")
+        - net_actuation (with driveshafts only)
         output_ports:
-        - tyre_forces
+        - tyre_wrenches
         - tyre_loads
         - tyre_diagnostics
 
-    ``body_poses`` and ``body_spatial_velocities`` are the plant's outputs of the same names.
-    ``tyre_forces``: list of ExternallyAppliedSpatialForce, one per wheel, applied at the
-    contact point, in world. ``tyre_loads``: Fz (N) of fl, fr, rl, rr, then their radial
+    The wheels' motion: with ``kinematics="state"`` from the plant's state [q; v] through
+    ``systems.body_kinematics`` (compiled, checked against the plant when made); with
+    ``"ports"`` from the plant's ``body_poses`` and ``body_spatial_velocities`` (lists of every
+    body's, dearer to read every step). ``connect(builder, plant)`` wires the inputs.
+    ``tyre_wrenches``: per wheel (fl, fr, rl, rr) the tyre's force (N) and its moment about
+    the wheel's origin (N m), both in the wheel's frame; with ``driveshafts``
+    (``systems.driveshaft.Driveshafts``) followed by the drive torques on the knuckles and the
+    moment reacting them on the body, in its frame (``net_actuation``: the plant's output of
+    that name for the driven instance). ``make_applier()`` gives the Drake system (C++) that
+    applies them to the plant. ``tyre_loads``: Fz (N) of fl, fr, rl, rr, then their radial
     deflections (m). ``tyre_diagnostics``: per wheel the fields ``DIAGNOSTIC_FIELDS`` in the
     contact frame (x along the wheel heading, y to its left; ISO slip conventions).
 
@@ -75,82 +69,108 @@ class TyreSystem(LeafSystem):
     steady), effective rolling radius R_e = R0 - δ/3, plus a viscous contact damping faded in
     below a low speed. Without relaxation the slips divide by max(|V_x|, v_floor): such a tyre is
     stiff at low speed and meant for runs that start rolling.
+
+    One step, one call (as ``StrutFriction``): the plant's step runs first; this system's
+    periodic discrete update (period ``time_step_s``, the plant's step) then sees the plant's
+    new state, advances the relaxation to it and computes from it the forces of the next step,
+    the loads and the diagnostics, all discrete state (an initialization event computes them from
+    the initial state). The plant reads the forces at its next step: they are the forces of the
+    state it steps from, as a direct-feedthrough calculation would give, computed once. All
+    outputs are state output ports and the forces reach the plant through Drake's C++: no Python
+    runs when they are read. The maths is ``law.tyre_compiled`` (numba), the pure-Python law is
+    its reference. ``road_height`` is one of ``law.road``'s profiles (default ``Flat``).
     """
 
     def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=None, *,
                  magic_formula_tyre=None, slip: SlipOptions | None = None, combined=True,
-                 linear=False, time_step_s=None, mirror_right=True, mirror_left=("fl", "rl")):
+                 linear=False, time_step_s=None, mirror_right=True, mirror_left=("fl", "rl"),
+                 driveshafts=None, kinematics="state"):
         super().__init__()
         missing = [w for w in WHEELS if w not in wheel_bodies]
         if missing:
             raise ValueError(f"TyreSystem: wheel bodies missing for {missing}")
-        self._tyre = tyre
-        self._road = Flat() if road_height is None else road_height
-        self._flat = isinstance(self._road, Flat)
-        self._mf = magic_formula_tyre
-        self._max_load = (MAX_LOAD_RATIO * magic_formula_tyre.FNOMIN
-                          if magic_formula_tyre is not None else float("inf"))
-        self._slip = slip = slip or SlipOptions()
-        self._combined = combined
-        self._linear = linear
+        if not (time_step_s and time_step_s > 0):
+            raise ValueError("TyreSystem: give the plant's time_step_s > 0 (the forces are "
+                             "computed once per step)")
         if linear and magic_formula_tyre is None:
             raise ValueError("TyreSystem: the linear tyre is the Magic Formula tyre linearised; "
                              "give magic_formula_tyre")
-        self._body_indices = [wheel_bodies[w].index() for w in WHEELS]
+        if kinematics not in ("state", "ports"):
+            raise ValueError(f"TyreSystem: kinematics {kinematics!r} must be 'state' or 'ports'")
+        self._tyre = tyre
+        self._mf = magic_formula_tyre
+        self._slip = slip = slip or SlipOptions()
+        self._dt = time_step_s
+        self._relaxed = magic_formula_tyre is not None and slip.relaxation
+        self._int_indices = [int(wheel_bodies[w].index()) for w in WHEELS]
         # The right-hand tyres are the left-hand ones mirrored (as Adams' and MF-Tyre's tyre-side
         # option does), so the car is symmetric: the data's ply-steer and conicity offsets
         # would otherwise push all four tyres the same way.
-        self._mirror = [1.0 if w in mirror_left else -1.0 for w in WHEELS] if mirror_right \
-            else [1.0] * len(WHEELS)
-        self._int_indices = [int(i) for i in self._body_indices]
-        self._applied = []  # one force object per wheel, refilled every step
-        for index in self._body_indices:
-            applied = ExternallyAppliedSpatialForce()
-            applied.body_index = index
-            self._applied.append(applied)
-        self._poses_port = self.DeclareAbstractInputPort(
-            "body_poses", Value[list[RigidTransform]]())
-        self._velocities_port = self.DeclareAbstractInputPort(
-            "body_spatial_velocities", Value[list[SpatialVelocity]]())
-        self._relaxed = self._mf is not None and slip.relaxation
-        if self._relaxed:
-            if not (time_step_s and time_step_s > 0):
-                raise ValueError("TyreSystem: relaxation needs the plant's time_step_s > 0")
-            self._dt = time_step_s
-            self._deflections = self.DeclareDiscreteState(2 * len(WHEELS))
-            self.DeclarePeriodicDiscreteUpdateEvent(time_step_s, 0.0, self._update)
-        # Two caches: the contact kinematics depend on the plant's outputs only, the forces also
-        # on the deflection states; the discrete update reads the first, so a step evaluates
-        # each once.
-        self._kinematics = self.DeclareCacheEntry(
-            description="contact_kinematics",
-            value_producer=ValueProducer(
-                allocate=lambda: AbstractValue.Make(()), calc=self._calc_kinematics),
-            prerequisites_of_calc={self.all_input_ports_ticket()})
-        self._solution = self.DeclareCacheEntry(
-            description="contact_solution",
-            value_producer=ValueProducer(
-                allocate=lambda: AbstractValue.Make(()), calc=self._calc_solution),
-            prerequisites_of_calc={self._kinematics.ticket(), self.xd_ticket()})
-        self.DeclareAbstractOutputPort(
-            "tyre_forces", lambda: Value[list[ExternallyAppliedSpatialForce]](),
-            self._calc_forces, prerequisites_of_calc={self._solution.ticket()})
-        self.DeclareVectorOutputPort("tyre_loads", BasicVector(2 * len(WHEELS)),
-                                     self._calc_loads,
-                                     prerequisites_of_calc={self._solution.ticket()})
-        self.DeclareVectorOutputPort(
-            "tyre_diagnostics", BasicVector(len(DIAGNOSTIC_FIELDS) * len(WHEELS)),
-            self._calc_diagnostics, prerequisites_of_calc={self._solution.ticket()})
-
-    def _deflection_rate(self, point, v):
-        """dδ/dt = (rate at which the road rises under the moving wheel) - v_z."""
-        if self._flat:
-            return -float(v[2])
-        eps = 1e-3
-        x, y = point[0], point[1]
-        dh_dx = (self._road(x + eps, y) - self._road(x - eps, y)) / (2 * eps)
-        dh_dy = (self._road(x, y + eps) - self._road(x, y - eps)) / (2 * eps)
-        return dh_dx * float(v[0]) + dh_dy * float(v[1]) - float(v[2])
+        mirror = ([1.0 if w in mirror_left else -1.0 for w in WHEELS] if mirror_right
+                  else [1.0] * len(WHEELS))
+        magic = magic_formula_tyre is not None
+        self._config = pack_config(
+            tyre, slip, magic=magic, linear=linear, combined=combined, relaxed=self._relaxed,
+            max_load=MAX_LOAD_RATIO * magic_formula_tyre.FNOMIN if magic else np.inf,
+            time_step=time_step_s, mirror=mirror)
+        self._coefficients = (pack_coefficients(magic_formula_tyre) if magic
+                              else np.zeros(1))
+        self._road = pack_road(Flat() if road_height is None else road_height)
+        # What the wrenches' entries act on (make_applier): each wheel's force and moment
+        # along its own axes; with driveshafts, the drive torques on the knuckles and their
+        # reaction on the body along its axes.
+        self._appliers = [  # per wheel: F_x, F_y, F_z, M_x, M_y, M_z
+            PropellerInfo(BodyIndex(index), axis, thrust_ratio=thrust, moment_ratio=1.0 - thrust)
+            for index in self._int_indices for thrust in (1.0, 0.0) for axis in _AXES]
+        self._driven = np.zeros(0, dtype=np.int64)
+        self._drive_indices = None
+        if driveshafts is not None:
+            self._driven = np.array([self._int_indices.index(w) for w in driveshafts.wheels],
+                                    dtype=np.int64)
+            self._drive_indices = np.array(driveshafts.actuation_indices, dtype=np.int64)
+            self._appliers += [
+                PropellerInfo(BodyIndex(knuckle), frame, thrust_ratio=0.0, moment_ratio=1.0)
+                for knuckle, frame in zip(driveshafts.knuckles, driveshafts.knuckle_frames)]
+            self._appliers += [PropellerInfo(BodyIndex(driveshafts.body), axis,
+                                             thrust_ratio=0.0, moment_ratio=1.0)
+                               for axis in _AXES]
+        # Where the wheels' (and the reacting body's) poses and velocities come from: the plant's
+        # state through the compiled kinematics (one vector read), or the plant's lists of
+        # every body's (two list reads).
+        bodies = [wheel_bodies[w] for w in WHEELS]
+        plant = bodies[0].GetParentPlant()
+        if driveshafts is not None:
+            bodies.append(plant.get_body(BodyIndex(driveshafts.body)))
+        self._kinematics = self._state_port = self._poses_port = self._velocities_port = None
+        if kinematics == "state":
+            self._kinematics = BodyKinematics(plant, bodies)
+            self._rows = self._kinematics.rows
+            self._state_port = self.DeclareVectorInputPort("plant_state",
+                                                           plant.num_multibody_states())
+        else:
+            self._bodies = [int(b.index()) for b in bodies]
+            self._rows = np.arange(len(bodies), dtype=np.int64)
+            self._poses_port = self.DeclareAbstractInputPort(
+                "body_poses", Value[list[RigidTransform]]())
+            self._velocities_port = self.DeclareAbstractInputPort(
+                "body_spatial_velocities", Value[list[SpatialVelocity]]())
+        self._wheel_rows = self._rows[:len(WHEELS)]
+        self._body_row = int(self._rows[-1]) if driveshafts is not None else -1
+        self._instance = driveshafts.instance if driveshafts is not None else None
+        self._actuation_port = None
+        if driveshafts is not None:
+            self._actuation_port = self.DeclareVectorInputPort("net_actuation",
+                                                               driveshafts.actuation_size)
+        self._relaxation = (self.DeclareDiscreteState(2 * len(WHEELS)) if self._relaxed
+                            else None)
+        self._wrenches = self.DeclareDiscreteState(len(self._appliers))
+        self._loads = self.DeclareDiscreteState(2 * len(WHEELS))
+        self._diagnostics = self.DeclareDiscreteState(len(DIAGNOSTIC_FIELDS) * len(WHEELS))
+        self.DeclareInitializationDiscreteUpdateEvent(self._initialize)
+        self.DeclarePeriodicDiscreteUpdateEvent(time_step_s, 0.0, self._update)
+        self.DeclareStateOutputPort("tyre_wrenches", self._wrenches)
+        self.DeclareStateOutputPort("tyre_loads", self._loads)
+        self.DeclareStateOutputPort("tyre_diagnostics", self._diagnostics)
 
     def check_time_step(self, time_step_s, spin_inertia_kgm2):
         """The horizontal forces act on the wheels' spin explicitly: the low-speed damping c
@@ -183,101 +203,52 @@ class TyreSystem(LeafSystem):
                 names.append(f"{quantity}_{w}_{unit}" if unit else f"{quantity}_{w}")
         return names
 
-    def _calc_kinematics(self, context, abstract_value):
-        # Scalars throughout (tuples, not numpy): this runs every step for four wheels.
-        poses = self._poses_port.Eval(context)
-        velocities = self._velocities_port.Eval(context)
-        radius = self._tyre.unloaded_radius_m
-        result = []
-        for index in self._int_indices:
-            (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = \
-                poses[index].GetAsMatrix34().tolist()
-            axis = (r01, r11, r21)  # the wheel's spin axis is its body y
-            centre = (px, py, pz)
-            wx, wy, wz, vx, vy, vz = velocities[index].get_coeffs().tolist()
-            point, deflection, _ = contact_point(centre, axis, radius, self._road)
-            fz = radial_force(self._tyre, deflection,
-                              self._deflection_rate(point, (vx, vy, vz)))
-            kin = None
-            if self._mf is not None:
-                kin = contact_kinematics(axis, centre, (vx, vy, vz), (wx, wy, wz), point,
-                                         radius - deflection / 3.0)
-            # The contact point in the wheel's frame: R^T (p - centre).
-            rx, ry, rz = point[0] - px, point[1] - py, point[2] - pz
-            p_body = [r00 * rx + r10 * ry + r20 * rz, r01 * rx + r11 * ry + r21 * rz,
-                      r02 * rx + r12 * ry + r22 * rz]
-            result.append(_Contact(index, p_body, point, deflection, fz, kin))
-        abstract_value.set_value(tuple(result))
-
-    def _calc_solution(self, context, abstract_value):
-        deflections = (context.get_discrete_state(self._deflections).get_value().tolist()
-                       if self._relaxed else None)
-        result = []
-        for k, (index, p_body, point, deflection, fz, kin) in enumerate(
-                self._kinematics.Eval(context)):
-            force = [0.0, 0.0, fz]
-            torque = [0.0, 0.0, 0.0]
-            diagnostics = [0.0, 0.0, fz, 0.0, 0.0, 0.0, 0.0, 0.0, deflection]
-            if kin is not None:
-                if fz > self._max_load:
-                    raise SimulationFailure(
-                        f"diverged at t = {context.get_time():.6f} s: tyre {WHEELS[k]} vertical "
-                        f"load {fz:.4g} N beyond {MAX_LOAD_RATIO:g} × FNOMIN, where the Magic "
-                        "Formula ends (a smaller plant.time_step or gentler inputs may help)")
-                if self._relaxed:
-                    kappa, alpha = transient_slips(deflections[2 * k], deflections[2 * k + 1],
-                                                   self._slip)
-                else:
-                    kappa, alpha = steady_slips(kin, self._slip)
-                mirror = self._mirror[k]
-                if self._linear:
-                    f = linear_tyre(self._mf, fz, kappa, mirror * alpha, mirror * kin.gamma,
-                                    kin.v_cx)
-                else:
-                    f = magic_formula(self._mf, fz, kappa, mirror * alpha, mirror * kin.gamma,
-                                      kin.v_cx, self._combined)
-                if mirror < 0:  # right-hand tyre: the data's lateral offsets mirrored
-                    f.fy, f.mz = -f.fy, -f.mz
-                damping = (self._slip.low_speed_damping_Nspm
-                           * low_speed_weight(kin.v_cx, self._slip)) if fz > 0 else 0.0
-                fx = f.fx - damping * kin.v_sx
-                fy = f.fy - damping * kin.v_sy
-                # e_x = (c, s, 0), e_y = (-s, c, 0): F = fx e_x + fy e_y + fz n,
-                # M = Mz n + My e_y.
-                c, s = kin.e_x[0], kin.e_x[1]
-                force = [fx * c - fy * s, fx * s + fy * c, fz]
-                torque = [-f.my * s, f.my * c, f.mz]
-                diagnostics = [fx, fy, fz, f.mz, kappa, alpha, kin.gamma, kin.v_cx, deflection]
-            result.append(_Solution(p_body, deflection, force, torque, diagnostics))
-        abstract_value.set_value(tuple(result))
+    def _initialize(self, context, discrete_state):
+        self._step(context, discrete_state, advance=False, t=context.get_time())
 
     def _update(self, context, discrete_state):
-        values = context.get_discrete_state(self._deflections).get_value().tolist()
-        options = self._slip
-        for k, contact in enumerate(self._kinematics.Eval(context)):
-            kin = contact.kinematics
-            if contact.fz <= 0.0:  # wheel off the road: the contact patch relaxes to zero
-                values[2 * k] = values[2 * k + 1] = 0.0
-                continue
-            values[2 * k] = relax(values[2 * k], -kin.v_sx, kin.v_cx,
-                                  options.relaxation_length_long_m, self._dt)
-            values[2 * k + 1] = relax(values[2 * k + 1], kin.v_sy, kin.v_cx,
-                                      options.relaxation_length_lat_m, self._dt)
-        discrete_state.set_value(self._deflections, values)
+        # The plant has stepped: its outputs are those of x_{k+1}, at time t + dt.
+        self._step(context, discrete_state, advance=True, t=context.get_time() + self._dt)
 
-    def _calc_forces(self, context, output):
-        forces = self._applied
-        for applied, solution in zip(forces, self._solution.Eval(context)):
-            applied.p_BoBq_B = solution.p_body
-            applied.F_Bq_W = SpatialForce(solution.torque, solution.force)
-        output.set_value(forces)  # copied into the port's value
+    def make_applier(self):
+        """Drake's ``Propeller`` system (C++) that applies ``tyre_wrenches`` to the bodies: each
+        entry is a "propeller" along or about a body-fixed axis, its command the entry (no
+        Python runs when the plant reads the forces). Connect the plant's ``body_poses`` to its
+        ``body_poses`` input, ``tyre_wrenches`` to its ``command`` input, its
+        ``spatial_forces`` output to the plant's applied spatial forces."""
+        return Propeller(self._appliers)
 
-    def _calc_loads(self, context, output):
-        solution = self._solution.Eval(context)
-        output.SetFromVector([s.force[2] for s in solution] + [s.deflection for s in solution])
+    def connect(self, builder, plant):
+        """Connects this system's inputs to ``plant``'s outputs."""
+        if self._state_port is not None:
+            builder.Connect(plant.get_state_output_port(), self._state_port)
+        else:
+            builder.Connect(plant.get_body_poses_output_port(), self._poses_port)
+            builder.Connect(plant.get_body_spatial_velocities_output_port(),
+                            self._velocities_port)
+        if self._actuation_port is not None:
+            builder.Connect(plant.get_net_actuation_output_port(self._instance),
+                            self._actuation_port)
 
-    def _calc_diagnostics(self, context, output):
-        values = []
-        for s in self._solution.Eval(context):
-            values += s.diagnostics
-        output.SetFromVector(values)
+    def _step(self, context, discrete_state, advance, t):
+        if self._kinematics is not None:
+            frames, twists = self._kinematics(self._state_port.Eval(context))
+        else:
+            poses = self._poses_port.Eval(context)
+            velocities = self._velocities_port.Eval(context)
+            frames = np.array([poses[i].GetAsMatrix34() for i in self._bodies])
+            twists = np.array([velocities[i].get_coeffs() for i in self._bodies])
+        torques = (self._actuation_port.Eval(context)[self._drive_indices]
+                   if self._actuation_port is not None else _NONE)
+        value = discrete_state.get_mutable_value
+        relaxation = value(self._relaxation) if self._relaxed else _NONE
+        loads = value(self._loads)
+        wheel = tyre_step(frames, twists, self._wheel_rows, relaxation, advance, self._config,
+                          self._coefficients, self._road, torques, self._driven,
+                          self._body_row, value(self._wrenches), loads,
+                          value(self._diagnostics))
+        if wheel >= 0:
+            raise SimulationFailure(
+                f"diverged at t = {t:.6f} s: tyre {WHEELS[wheel]} vertical load "
+                f"{loads[wheel]:.4g} N beyond {MAX_LOAD_RATIO:g} × FNOMIN, where the Magic "
+                "Formula ends (a smaller plant.time_step or gentler inputs may help)")
