@@ -62,6 +62,17 @@ def number(name):
     return _checked(name, lambda v: abs(v) < float("inf"), "a finite number")
 
 
+def count(text):
+    """An option's whole number >= 1 (a count of workers, say)."""
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"{n} must be >= 1")
+    return n
+
+
 def _checked(name, valid, requirement):
     def check(text):
         try:

@@ -3,8 +3,8 @@
   DIR/history.csv   every logged channel (t, phase, ...; SI units in the column names)
   DIR/scene.yaml    the scene as it ran, every value (rerun it: --scene DIR/scene.yaml)
   DIR/run.json      how the run went: wall time, frozen SAP steps, the end state, provenance
-  DIR/diagram.svg   the Diagram that ran (Graphviz), DIR/diagram_overview.svg the plant's
-                    neighbours only
+  DIR/diagram.svg   the Diagram that ran, drawn by Graphviz; DIR/diagram.dot its Graphviz
+                    source
   DIR/replay.html   the Meshcat replay, when the scene's visualization is !MeshcatReplay
 
 Bad input (a scene key, a value out of range, a tyre file, an output folder): one line on

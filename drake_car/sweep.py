@@ -18,15 +18,15 @@ Runs go to a local cluster (one single-threaded worker process per core, or --wo
 scheduler, workers and dashboards listen on 127.0.0.1 only) or, with --scheduler tcp://HOST:PORT,
 to a running Dask cluster (its workers must be able to import drake_car: an installed package
 or PYTHONPATH). Run the same command again to finish a killed sweep: the runs already in DIR
-are kept and only the missing ones run (--rerun_failed: failed ones too); unlike other
-commands' --out, a sweep's folder is added to, never replaced (delete it to start afresh). A
-run that fails is recorded and the others go on; the exit status is then 1.
+are kept and only the missing ones run, and those that Dask or the disk lost (a killed worker,
+files not written; --rerun_failed: every failed one); unlike other commands' --out, a sweep's
+folder is added to, never replaced (delete it to start afresh). A run that fails is recorded
+and the others go on; the exit status is then 1.
 
   python -m drake_car.sweep --scenes scenes/paper_study.yaml --out results/sweep \\
       --scene_text "simulator: {end_time_s: 3.0}" --grid friction.law.mu_s=0.2,0.3,0.4
 """
 
-import argparse
 import contextlib
 import itertools
 import json
@@ -58,7 +58,7 @@ def main(argv=None):
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="a running Dask scheduler, e.g. tcp://127.0.0.1:8786 (default: a "
                         "local cluster on 127.0.0.1)")
-    p.add_argument("--workers", type=_count, default=None,
+    p.add_argument("--workers", type=cli.count, default=None,
                    help="worker processes of the local cluster (default: one per core)")
     p.add_argument("--rerun_failed", action="store_true", help="run the failed runs again")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -191,16 +191,6 @@ def _grid_option(p, item):
 
 def _one_line(e):
     return " ".join(str(e).split())
-
-
-def _count(text):
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"{n} must be >= 1")
-    return n
 
 
 def _log_invocation(out, entry):

@@ -80,7 +80,7 @@ def write_report(path, settled, sweep, stuck, wall):
     lines = [
         "# drake_car: the car on its own", "",
         f"Made by `{prov['command']}`; {prov['created_utc']}, drake {prov['drake']}, commit "
-        f"{prov['git_commit'][:10]}; {wall:.1f} s wall.", "",
+        f"{(prov['git_commit'] or 'unknown')[:10]}; {wall:.1f} s wall.", "",
         "## The settled car (lubricated struts)", "",
         "| quantity | model | real car [ESC] |", "|---|---|---|",
         f"| front axle load | {front:.0f} N | {design['front']:.0f} N "

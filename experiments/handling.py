@@ -556,7 +556,7 @@ def report(result):
     lines = [
         "# drake_car: handling (ISO 4138, ISO 7401), understeer budget, cross-check", "",
         f"Made by `{prov['command']}`; {prov['created_utc']}, drake {prov['drake']}, commit "
-        f"{prov['git_commit'][:10]}. Drive: **{result['drive']}**. Wall time "
+        f"{(prov['git_commit'] or 'unknown')[:10]}. Drive: **{result['drive']}**. Wall time "
         f"**{walls['total']:.0f} s** ({wall_parts}). The scenes as they ran: "
         "`steady_state/scene.yaml`, `step_steer/scene.yaml`.", "",
         "Signs are ISO 8855 (x forward, y left, z up): in a left turn δ, r, a_y and roll (right "

@@ -54,11 +54,13 @@ def test_relax_and_roads():
                 RNG.uniform(0.1, 1.0), 1e-3)
         close(tc.relax(*args), relax(*args), scale=0.01)
     roads = [Flat(), CosineBump(1.0, 0.5, 0.04), CosineBump(1.0, 0.5, -0.03),
-             SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01])]
+             SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01]),
+             SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01], [0.0, -0.02, 0.005])]
     for road in roads:
         packed = tc.pack_road(road.check())
         for x in np.concatenate([RNG.uniform(-1, 4, 200), [0.0, 1.0, 1.5, 3.0]]):
-            close(tc.road_height(packed, x, 0.3), road(x, 0.3), scale=0.04)
+            for y in (0.7, 0.0, -1e-9, -0.7):  # both tracks and the line between them
+                close(tc.road_height(packed, x, y), road(x, y), scale=0.04)
     with pytest.raises(TypeError, match="compiled tyre knows"):
         tc.pack_road(lambda x, y: 0.0)
 
@@ -199,6 +201,15 @@ def test_friction_law(law):
         displacement = RNG.uniform(-1, 1) * law.dmax
         close(fc.advance_creep(creep, phase, v, displacement, law.dv, law.dmax),
               advance_creep(creep, phase, v, displacement, law), scale=law.dmax)
+
+
+def test_compiled_phases_are_the_laws():
+    """frd_compiled defines STATIC and KINETIC itself (numba's on-disk cache watches that file
+    only): they must stay equal to frd_friction's."""
+    for name, compiled, reference in (("STATIC", fc.STATIC, STATIC),
+                                      ("KINETIC", fc.KINETIC, KINETIC)):
+        assert compiled == reference, (
+            f"frd_compiled.{name} = {compiled}, frd_friction.{name} = {reference}")
 
 
 def test_normal_force_forms():

@@ -1,5 +1,7 @@
 """The tyre system's vertical part, alone and on the car's plant."""
 
+import math
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
@@ -133,6 +135,17 @@ def test_road_profiles():
     assert pothole(10.25, 0.0) == pytest.approx(-0.03)
     samples = SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01]).check()
     assert samples(0.5, 0.0) == pytest.approx(0.005) and samples(5.0, 0.0) == -0.01
+    assert samples(0.5, -0.7) == samples(0.5, 0.7)  # one profile across the road
+    tracks = SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01], [0.0, -0.02, 0.0]).check()
+    assert tracks(0.5, 0.7) == pytest.approx(0.005) and tracks(0.5, -0.7) == pytest.approx(-0.01)
+    assert tracks.flat_up_to_m() == 0.0 and samples.flat_up_to_m() == 0.0
+    assert SampledProfile([0.0, 1.0, 3.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.01]).flat_up_to_m() == 1.0
+    assert SampledProfile([0.0, 1.0], [0.01, 0.0]).flat_up_to_m() == -math.inf
+    assert bump.flat_up_to_m() == 10.0 and Flat().flat_up_to_m() == math.inf
+    with pytest.raises(ParameterError, match=r"z_right_m \(1 samples\)"):
+        SampledProfile([0.0, 1.0], [0.0, 0.0], [0.0]).check()
+    with pytest.raises(ParameterError, match=r"z_right_m\[1\] = 1.0 makes a slope"):
+        SampledProfile([0.0, 1.0], [0.0, 0.0], [0.0, 1.0]).check()
     with pytest.raises(ParameterError, match=r"x_m\[2\] = 1.0 must be > x_m\[1\]"):
         SampledProfile([0.0, 1.0, 1.0], [0, 0, 0]).check()
     with pytest.raises(ParameterError, match=r"x_m\[1\] = nan must be a finite number"):

@@ -15,7 +15,13 @@ import math
 import numba
 import numpy as np
 
-from drake_car.law.frd_friction import KINETIC, NORMAL_FORCE_FORMS, STATIC, shape_max_slope
+from drake_car.law.frd_friction import NORMAL_FORCE_FORMS, shape_max_slope
+
+# The friction phases, as ``frd_friction``'s (a test checks they are equal). Defined here, not
+# imported: numba freezes the globals a compiled function reads into its on-disk cache, which
+# is invalidated by a change of this file only, so an imported value could go stale there.
+STATIC = 0.0
+KINETIC = 1.0
 
 P = enum.IntEnum("P", {name: i for i, name in enumerate((
     "MU_S", "MU_D", "DV", "DMAX", "BETA_CUBIC", "CREEP_CUBIC", "ROTATION", "STRUT", "Q_INDEX",

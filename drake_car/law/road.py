@@ -29,6 +29,10 @@ class Flat:
     def height(self, x, y):
         return 0.0
 
+    def flat_up_to_m(self):
+        """The road is z = 0 wherever x <= this (m)."""
+        return math.inf
+
     __call__ = height
 
 
@@ -64,24 +68,34 @@ class CosineBump:
             return 0.0
         return 0.5 * self.height_m * (1.0 - math.cos(2.0 * math.pi * s))
 
+    def flat_up_to_m(self):
+        return self.start_x_m
+
     __call__ = height
 
 
 @dataclasses.dataclass
 class SampledProfile:
-    """A measured longitudinal profile: heights ``z_m`` at stations ``x_m`` (strictly
-    increasing), linear in between, the end heights held outside."""
+    """A measured profile: heights ``z_m`` at stations ``x_m`` (strictly increasing), linear in
+    between, the end heights held outside. One profile across the road, or two tracks:
+    ``z_right_m`` (same stations) for the right-hand half of the road (y < 0), ``z_m`` then for
+    the left-hand half (y >= 0); empty: ``z_m`` across the whole road."""
 
     x_m: typing.List[float] = dataclasses.field(default_factory=lambda: [0.0, 1.0])
     z_m: typing.List[float] = dataclasses.field(default_factory=lambda: [0.0, 0.0])
+    z_right_m: typing.List[float] = dataclasses.field(default_factory=list)
 
     def check(self):
-        x, z = list(self.x_m), list(self.z_m)
-        if len(x) < 2 or len(x) != len(z):
-            raise ParameterError("x_m", f"{len(x)} samples",
-                                 f"and z_m ({len(z)} samples) must be lists of the same "
-                                 "length >= 2")
-        for name, values in (("x_m", x), ("z_m", z)):
+        x = list(self.x_m)
+        tracks = {"z_m": list(self.z_m)}
+        if len(self.z_right_m):
+            tracks["z_right_m"] = list(self.z_right_m)
+        for name, z in tracks.items():
+            if len(x) < 2 or len(x) != len(z):
+                raise ParameterError("x_m", f"{len(x)} samples",
+                                     f"and {name} ({len(z)} samples) must be lists of the same "
+                                     "length >= 2")
+        for name, values in (("x_m", x), *tracks.items()):
             for i, value in enumerate(values):
                 if not (isinstance(value, (int, float)) and math.isfinite(value)):
                     raise ParameterError(f"{name}[{i}]", value, "must be a finite number")
@@ -90,24 +104,39 @@ class SampledProfile:
                 raise ParameterError(f"x_m[{i}]", x[i],
                                      f"must be > x_m[{i - 1}] = {x[i - 1]} (strictly "
                                      "increasing)")
-            slope = abs(z[i] - z[i - 1]) / (x[i] - x[i - 1])
-            if slope > MAX_SLOPE:
-                raise ParameterError(f"z_m[{i}]", z[i],
-                                     f"makes a slope of {slope:.2f} from sample {i - 1}; "
-                                     f"slopes must be <= {MAX_SLOPE} (the tyre model takes "
-                                     "the road normal as vertical)")
-        if max(abs(v) for v in z) > MAX_HEIGHT_M:
-            raise ParameterError("z_m", max(z, key=abs),
-                                 f"must lie in [-{MAX_HEIGHT_M:g}, {MAX_HEIGHT_M:g}] m")
+        for name, z in tracks.items():
+            for i in range(1, len(x)):
+                slope = abs(z[i] - z[i - 1]) / (x[i] - x[i - 1])
+                if slope > MAX_SLOPE:
+                    raise ParameterError(f"{name}[{i}]", z[i],
+                                         f"makes a slope of {slope:.2f} from sample {i - 1}; "
+                                         f"slopes must be <= {MAX_SLOPE} (the tyre model takes "
+                                         "the road normal as vertical)")
+            if max(abs(v) for v in z) > MAX_HEIGHT_M:
+                raise ParameterError(name, max(z, key=abs),
+                                     f"must lie in [-{MAX_HEIGHT_M:g}, {MAX_HEIGHT_M:g}] m")
         return self
+
+    def right_track(self):
+        """The right-hand track's heights (``z_m`` when the road has one profile)."""
+        return self.z_right_m if len(self.z_right_m) else self.z_m
 
     def height(self, x, y):
         # Arrays made at the first call (a profile is not changed once a simulation uses it).
         arrays = self.__dict__.get("_arrays")
         if arrays is None:
-            arrays = (np.asarray(self.x_m, dtype=float), np.asarray(self.z_m, dtype=float))
+            arrays = tuple(np.asarray(v, dtype=float)
+                           for v in (self.x_m, self.z_m, self.right_track()))
             self.__dict__["_arrays"] = arrays
-        return float(np.interp(x, arrays[0], arrays[1]))
+        return float(np.interp(x, arrays[0], arrays[1] if y >= 0.0 else arrays[2]))
+
+    def flat_up_to_m(self):
+        if self.z_m[0] != 0.0 or self.right_track()[0] != 0.0:
+            return -math.inf
+        for i in range(1, len(self.x_m)):
+            if self.z_m[i] != 0.0 or self.right_track()[i] != 0.0:
+                return self.x_m[i - 1]
+        return math.inf
 
     __call__ = height
 

@@ -66,13 +66,14 @@ def pack_config(radial_tyre, slip, *, magic, linear, combined, relaxed, max_load
 
 def pack_road(road):
     """[kind, parameters...]: Flat [0]; CosineBump [1, start, length, height]; SampledProfile
-    [2, n, x_1..x_n, z_1..z_n]."""
+    [2, n, x_1..x_n, z_1..z_n (y >= 0), z_1..z_n (y < 0)]."""
     if isinstance(road, Flat):
         return np.array([FLAT])
     if isinstance(road, CosineBump):
         return np.array([COSINE_BUMP, road.start_x_m, road.length_m, road.height_m], dtype=float)
     if isinstance(road, SampledProfile):
-        return np.array([SAMPLED, len(road.x_m), *road.x_m, *road.z_m], dtype=float)
+        return np.array([SAMPLED, len(road.x_m), *road.x_m, *road.z_m, *road.right_track()],
+                        dtype=float)
     raise TypeError(f"the compiled tyre knows the roads Flat, CosineBump and SampledProfile, "
                     f"not {type(road).__name__}")
 
@@ -91,7 +92,8 @@ def road_height(road, x, y):
             return 0.0
         return 0.5 * road[3] * (1.0 - math.cos(2.0 * math.pi * s))
     n = int(road[1])
-    return np.interp(x, road[2:2 + n], road[2 + n:2 + 2 * n])
+    z = 2 + n if y >= 0.0 else 2 + 2 * n
+    return np.interp(x, road[2:2 + n], road[z:z + n])
 
 
 @_jit

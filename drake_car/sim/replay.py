@@ -105,12 +105,16 @@ class ReplayRecorder:
                 [road.start_x_m + 0.5 * road.length_m, 0.5 * (y_min + y_max),
                  math.copysign(0.5 * height, road.height_m)]))
         elif isinstance(road, SampledProfile):
-            for k in range(len(road.x_m) - 1):
-                x0, x1 = road.x_m[k], road.x_m[k + 1]
-                z = 0.5 * (road.z_m[k] + road.z_m[k + 1])
-                path = f"/drake/road/profile/segment{k:04d}"
-                m.SetObject(path, Box(x1 - x0, y_max - y_min, 0.02), BUMP_YELLOW)
-                m.SetTransform(path, RigidTransform([0.5 * (x0 + x1), 0.5 * (y_min + y_max), z]))
+            # one strip per segment and track (left: y >= 0, right: y < 0)
+            tracks = ((("", road.z_m, y_min, y_max),) if not len(road.z_right_m) else
+                      (("left", road.z_m, 0.0, y_max), ("right", road.z_right_m, y_min, 0.0)))
+            for side, heights, lo, hi in tracks:
+                for k in range(len(road.x_m) - 1):
+                    x0, x1 = road.x_m[k], road.x_m[k + 1]
+                    z = 0.5 * (heights[k] + heights[k + 1])
+                    path = f"/drake/road/profile{side}/segment{k:04d}"
+                    m.SetObject(path, Box(x1 - x0, hi - lo, 0.02), BUMP_YELLOW)
+                    m.SetTransform(path, RigidTransform([0.5 * (x0 + x1), 0.5 * (lo + hi), z]))
 
     def _car_position(self, root):
         built = self._built

@@ -16,7 +16,9 @@ import math
 import numpy as np
 from pydrake.common.yaml import yaml_load_typed
 
+from drake_car.law.road import SampledProfile
 from drake_car.scene.load import SceneError, check_scene, hands_off_release_s
+from drake_car.scene.manoeuvres import speed_profile
 from drake_car.scene.scene import HandsOff, Scene
 from drake_car.study.paper import place_values
 
@@ -46,15 +48,28 @@ class MapSpec:
 
 
 @dataclasses.dataclass
+class Line:
+    """One factor at a time: scene key ``key`` at each of ``values``, the others at the base
+    scene's, at each of the study's ``line_mu_s``, hands off."""
+
+    key: str = ""
+    label: str = ""
+    values: list[float] = dataclasses.field(default_factory=list)
+    reason: str = ""
+
+
+@dataclasses.dataclass
 class MonteCarlo:
-    """Jam states: ``samples`` runs with random road unevenness before the manoeuvre (heights
-    uniform in ±``roughness_m`` every ``spacing_m`` up to ``length_m``, seeded), the driver
-    letting go after it."""
+    """Jam states: ``samples`` runs with random road unevenness before the manoeuvre, the
+    driver letting go after it. The left and right tracks get independent heights, uniform in
+    ±``roughness_m`` every ``spacing_m`` from ``start_m`` (the car at rest stands on flat road)
+    to ``length_m`` (the rear wheels must leave it before place a: checked), seeded."""
 
     samples: int = 200
     roughness_m: float = 0.005
     spacing_m: float = 1.0
-    length_m: float = 60.0
+    start_m: float = 2.0
+    length_m: float = 25.0
     seed: int = 2026
 
 
@@ -73,6 +88,8 @@ class DesignStudy:
     factors: list[Factor] = dataclasses.field(default_factory=list)
     mu_d_ratio: float = 0.75  # μd = ratio · μs wherever μs varies (the paper's 0.15/0.2, 0.3/0.4)
     maps: list[MapSpec] = dataclasses.field(default_factory=list)
+    lines: list[Line] = dataclasses.field(default_factory=list)
+    line_mu_s: list[float] = dataclasses.field(default_factory=lambda: [0.2, 0.4])
     sobol_base_samples: int = 64
     monte_carlo: MonteCarlo = dataclasses.field(default_factory=MonteCarlo)
     mitigations: list[Mitigation] = dataclasses.field(default_factory=list)
@@ -98,15 +115,43 @@ def load_study(path, child=None) -> DesignStudy:
         if not factor.low < factor.high:
             raise SceneError(f"{path}: factor {factor.key}: low {factor.low} must be below high "
                              f"{factor.high}")
+    for line in study.lines:
+        if not line.values:
+            raise SceneError(f"{path}: line {line.key}: values must not be empty")
+        for value in line.values:
+            for mu_s in study.line_mu_s:
+                with_value(study, {line.key: value, "friction.law.mu_s": mu_s})
+    _check_rough_road(study, path)
     return study
+
+
+def _check_rough_road(study, path):
+    """The rough stretch must lie ahead of the car at rest and behind its rear wheels when
+    place a begins (at the commanded speed; the car lags it, which only adds margin)."""
+    mc, timeline = study.monte_carlo, study.base.manoeuvre.timeline
+    if not 1.0 <= mc.start_m < mc.length_m:
+        raise SceneError(f"{path}: monte_carlo.start_m = {mc.start_m} must be >= 1 m (the car "
+                         f"at rest stands on flat road) and below length_m = {mc.length_m}")
+    place_a = timeline.boundaries()[1] - 0.3
+    _, front_at_place_a, _ = speed_profile(np.array([place_a]), timeline)
+    rear = float(front_at_place_a[0]) - study.base.car.wheelbase_m
+    if mc.length_m > rear:
+        raise SceneError(f"{path}: monte_carlo.length_m = {mc.length_m} m: the rear wheels are "
+                         f"only at {rear:.1f} m when place a begins ({place_a:.2f} s); the rough "
+                         "stretch must end before")
 
 
 def paper_value(study, f: Factor):
     """The factor's value for the paper's car (``paper``; NaN: the base scene's value)."""
     if not math.isnan(f.paper):
         return f.paper
-    value = study.base
-    for part in f.key.split("."):
+    return value_of(study.base, f.key)
+
+
+def value_of(scene, key):
+    """The value at a dotted key path of ``scene``."""
+    value = scene
+    for part in key.split("."):
         value = getattr(value, part)
     return float(value)
 
@@ -147,17 +192,18 @@ def with_value(study: DesignStudy, values: dict, *, name=None, base=None) -> Sce
     return check_scene(scene, f"design study values {values}")
 
 
-def rough_road(study: DesignStudy, sample: int):
-    """A seeded random road: (x_m, z_m) lists, heights uniform in ±roughness up to
-    ``length_m``, flat beyond (so the manoeuvre itself is on a flat road)."""
+def rough_road(study: DesignStudy, sample: int) -> SampledProfile:
+    """A seeded random road of two tracks: flat up to ``start_m``, heights uniform in
+    ±roughness, independent left and right, up to ``length_m``, flat beyond (the manoeuvre
+    itself is on a flat road)."""
     mc = study.monte_carlo
     rng = np.random.default_rng([mc.seed, sample])
-    x = np.arange(0.0, mc.length_m + 1e-9, mc.spacing_m)
-    z = rng.uniform(-mc.roughness_m, mc.roughness_m, x.size)
-    z[0] = z[-1] = 0.0
-    x = np.concatenate([x, [mc.length_m + 10.0]])
-    z = np.concatenate([z, [0.0]])
-    return [float(v) for v in x], [float(v) for v in z]
+    x = np.concatenate([[0.0], np.arange(mc.start_m, mc.length_m + 1e-9, mc.spacing_m),
+                        [mc.length_m + 10.0]])
+    tracks = rng.uniform(-mc.roughness_m, mc.roughness_m, (2, x.size))
+    tracks[:, :2] = tracks[:, -2:] = 0.0
+    return SampledProfile(x_m=[float(v) for v in x], z_m=[float(v) for v in tracks[0]],
+                          z_right_m=[float(v) for v in tracks[1]]).check()
 
 
 # -- outcomes of a run ---------------------------------------------------------------------

@@ -1,6 +1,6 @@
 """Figures of the design study: heat maps of 2-D slices with the paper's point and the
-threshold's boundary, the Sobol indices with their confidence intervals, the Monte-Carlo
-distributions with each mitigation's."""
+threshold's boundary, the one-factor lines, the Sobol indices with their confidence intervals,
+the Monte-Carlo distributions with each mitigation's."""
 
 import matplotlib
 
@@ -89,6 +89,35 @@ def distributions(samples_by_case, *, x_label, threshold, path, title):
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def lines(line_tables, mu_s_values, *, split_threshold, pull_threshold, noise, path):
+    """One row per line (a factor varied alone): the lasting split (%) and the pull (deg)
+    against the factor's value, a curve per μs; the thresholds dashed, the numerical noise
+    (``noise``: split %, pull deg) as a band around zero."""
+    fig, axes = plt.subplots(len(line_tables), 2, figsize=(9.0, 2.6 * len(line_tables)),
+                             squeeze=False)
+    for row, line in zip(axes, line_tables):
+        for ax, key, limit, band, unit in ((row[0], "split_pct", split_threshold, noise[0],
+                                            "lasting split [%]"),
+                                           (row[1], "pull_deg", pull_threshold, noise[1],
+                                            "pull [deg]")):
+            for mu_s in mu_s_values:
+                pts = [p for p in line["points"] if p["mu_s"] == mu_s]
+                ax.plot([p["value"] for p in pts], [p[key] for p in pts], "o-",
+                        label=f"μs = {mu_s:g}")
+            for sign in (1, -1):
+                ax.axhline(sign * limit, color="k", ls="--", lw=0.8)
+            ax.axhspan(-band, band, color="0.85", zorder=0, label="numerical noise")
+            ax.set_xlabel(line["label"], fontsize=8)
+            ax.set_ylabel(unit, fontsize=8)
+            ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7)
+    axes[0][0].set_title("lasting front load split change (dashed: threshold)", fontsize=9)
+    axes[0][1].set_title("heading change hands off (dashed: threshold)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

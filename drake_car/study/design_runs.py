@@ -7,19 +7,16 @@ import dataclasses
 
 from pydrake.multibody.plant import MultibodyPlantConfig
 
-from drake_car.law.road import SampledProfile
 from drake_car.scene.load import load_scene
 from drake_car.scene.scene import HandsOff
 from drake_car.study.design import rough_road, with_value
 from drake_car.study.sensitivity import map_points, sobol_points
 
-# The driver lets go this long after the lane change ends (the car runs straight again).
-RELEASE_AFTER_S = 1.0
-
 
 def quick(study):
     """A smoke version of ``study`` (``--quick``): every phase shortened, 2 × 2 maps, the
-    smallest Sobol sample, 4 Monte-Carlo states, 2 per mitigation, 2 noise runs."""
+    smallest Sobol sample, 4 Monte-Carlo states, 2 per mitigation, 2 noise runs, each line's
+    first two values at one μs."""
     t = study.base.manoeuvre.timeline
     timeline = dataclasses.replace(t, settle_s=0.1, speed_up_s=0.6, straight_s=0.3,
                                    steer_s=0.6, calm_s=0.5)
@@ -28,8 +25,11 @@ def quick(study):
     return dataclasses.replace(
         study, base=base, maps=[dataclasses.replace(m, points=2) for m in study.maps],
         sobol_base_samples=2, monte_carlo=dataclasses.replace(study.monte_carlo, samples=4,
-                                                              length_m=8.0),
-        mitigation_samples=2, noise_samples=2, pull_distance_m=5.0)
+                                                              start_m=1.0, length_m=2.0,
+                                                              spacing_m=0.5),
+        mitigation_samples=2, noise_samples=2, pull_distance_m=5.0,
+        lines=[dataclasses.replace(line, values=line.values[:2]) for line in study.lines],
+        line_mu_s=study.line_mu_s[:1])
 
 
 def map_scenes(study):
@@ -47,14 +47,28 @@ def sobol_scenes(study):
             for k, values in enumerate(sobol_points(study))}
 
 
+def line_scenes(study):
+    """{name: (scene, values)} of every line's points at each of ``line_mu_s``, hands off."""
+    scenes = {}
+    for i, line in enumerate(study.lines):
+        for j, mu_s in enumerate(study.line_mu_s):
+            for k, value in enumerate(line.values):
+                name = f"line{i}_mu{j}_{k:02d}"
+                values = {"friction.law.mu_s": mu_s, line.key: value}
+                scene = hands_off(study, with_value(study, values, name=name))
+                scenes[name] = (scene, values | {"line": line.key})
+    return scenes
+
+
 def hands_off(study, scene):
-    """``scene`` with the driver letting go ``RELEASE_AFTER_S`` after the lane change, and long
-    enough after it to drive the study's pull distance."""
+    """``scene`` with the driver letting go where its calm phase ends (so place b, its last
+    0.5 s, is the same window with hands on and off), and driving on long enough to cover the
+    study's pull distance."""
     m = scene.manoeuvre
     t = m.timeline
     span = study.pull_distance_m / t.speed_mps
-    timeline = dataclasses.replace(t, calm_s=RELEASE_AFTER_S + span + 0.2)
-    release = t.settle_s + t.speed_up_s + t.straight_s + t.steer_s + RELEASE_AFTER_S
+    release = t.boundaries()[2] + t.calm_s
+    timeline = dataclasses.replace(t, calm_s=t.calm_s + span + 0.2)
     return dataclasses.replace(scene, manoeuvre=dataclasses.replace(m, timeline=timeline),
                                steering=HandsOff(release_s=release))
 
@@ -67,10 +81,9 @@ def monte_carlo_scenes(study, *, samples=None, scene_text=None, prefix="mc"):
         base = load_scene(scene_text=scene_text, base=base)
     scenes = {}
     for k in range(study.monte_carlo.samples if samples is None else samples):
-        x, z = rough_road(study, k)
         name = f"{prefix}_{k:04d}"
         scene = dataclasses.replace(hands_off(study, base), name=name,
-                                    road=SampledProfile(x_m=x, z_m=z))
+                                    road=rough_road(study, k))
         scenes[name] = (with_value(study, {}, name=name, base=scene), {"sample": k})
     return scenes
 
@@ -85,11 +98,25 @@ def mitigation_scenes(study):
     return scenes
 
 
-def noise_scenes(study, scenes):
-    """The first ``noise_samples`` of ``scenes`` (name -> (scene, values)) at half their step:
+def noise_sample(study, parts):
+    """``noise_samples`` names spread evenly over every part's runs (parts: {role: {name:
+    ...}}), each part in turn: the runs whose half-step twins measure the numerical noise."""
+    pools = [list(part) for part in parts.values() if part]
+    picks = {i: [] for i in range(len(pools))}
+    for n in range(study.noise_samples):
+        picks[n % len(pools)].append(None)
+    names = []
+    for i, pool in enumerate(pools):
+        count = min(len(picks[i]), len(pool))
+        names += [pool[int(k * len(pool) / count)] for k in range(count)]
+    return names
+
+
+def noise_scenes(study, scenes, names):
+    """``names`` of ``scenes`` (name -> (scene, values)) at half their step:
     {name: (scene, values | {"of": original name})}."""
     out = {}
-    for name in list(scenes)[:study.noise_samples]:
+    for name in names:
         scene, values = scenes[name]
         plant = MultibodyPlantConfig(**{f.name: getattr(scene.plant, f.name)
                                         for f in MultibodyPlantConfig.__fields__})

@@ -10,7 +10,8 @@ loaded and checked on the worker; its ``Run`` comes back pickled (with its scene
 ``run_sweep(scenes, out_dir)`` writes a results folder keyed by the scenes' content hashes
 (``scene_hash``: equal scenes make equal runs; two names with one hash run once)::
 
-    DIR/runs/<hash>/status.json   hash, name(s), status (ok|failed), wall_s (the task on its
+    DIR/runs/<hash>/status.json   hash, name(s), status (ok|failed), kind (a failed run's:
+                                  run|infrastructure; else null), wall_s (the task on its
                                   worker: build, equilibrium unless cached, run), worker,
                                   finished_utc, error, traceback
     DIR/runs/<hash>/scene.yaml    the scene (rerun it: python -m drake_car.run --scene it)
@@ -20,12 +21,16 @@ loaded and checked on the worker; its ``Run`` comes back pickled (with its scene
 
 A run folder appears whole (``runs/.tmp-*`` renamed) as its run completes, and its row is
 appended to the index, which is rebuilt from the folders at the start and the end (also on
-Ctrl-C, or SIGTERM made SystemExit: the rest is cancelled). A restarted sweep reuses every run
-folder (failed ones too, unless ``rerun_failed``) and runs only the missing scenes. A worker
-that dies mid-run is restarted by its nanny and its runs handed out again; a run whose workers
-died more than ``distributed.scheduler.allowed-failures`` (3) times fails (KilledWorker). A run
-that raises is recorded as failed with its error and traceback, not retried (a run is a pure
-function of its scene), and the sweep goes on. One sweep per folder at a time
+Ctrl-C, or SIGTERM made SystemExit: the rest is cancelled). A worker that dies mid-run is
+restarted by its nanny and its runs handed out again. A failed run is recorded with its error,
+traceback and kind, and the sweep goes on. Kind "run": the simulation raised in ``run_task``;
+not retried (a run is a pure function of its scene: it would fail again). Kind
+"infrastructure": Dask gave no result for it (KilledWorker, after its workers died more than
+``distributed.scheduler.allowed-failures`` (3) times; cancelled; a worker lost; run_task not
+importable there), or its files could not be written (``commit_run``). A restarted sweep
+reuses every ok run and, unless ``rerun_failed``, every run failure; it runs the missing
+scenes and the infrastructure failures again (``missing``). A status.json without a kind
+(written before kinds were recorded) counts as a run failure. One sweep per folder at a time
 (``DIR/.sweep.lock``). ``run.json`` names the commit: a restart after a code change mixes them.
 """
 import contextlib
@@ -47,7 +52,8 @@ from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
 from drake_car.study.sweep_folder import (
-    INDEX_FIELDS, commit_run, folder_lock, remove_stale, load_run, read_status, rebuild_index)
+    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, commit_run, failure_kind, folder_lock,
+    load_run, read_status, rebuild_index, remove_stale)
 from drake_car.systems.failure import SimulationFailure
 
 LOOPBACK = "127.0.0.1"
@@ -207,17 +213,21 @@ def compute(client, jobs, done, *, progress=True, desc="sweep"):
 
 
 def _record(job, result):
-    """(status record, the pickled Run or the error) of what Dask gave for ``job``."""
+    """(status record, the pickled Run or the error) of what Dask gave for ``job``: a failure
+    of kind ``RUN_FAILURE`` when run_task returned its error, else ``INFRASTRUCTURE_FAILURE``
+    (Dask gave no result dict: KilledWorker, cancelled, ...)."""
     record = {"hash": job.hash, "name": job.names[0], "names": job.names, "status": "failed",
-              "wall_s": None, "worker": "", "error": "", "traceback": "",
+              "kind": INFRASTRUCTURE_FAILURE, "wall_s": None, "worker": "", "error": "",
+              "traceback": "",
               "finished_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(
                   timespec="milliseconds")}
     if isinstance(result, dict):  # run_task's
         record.update({k: result[k] for k in ("wall_s", "worker", "error", "traceback")
                        if k in result})
         if result["run"] is not None:
-            record["status"] = "ok"
+            record.update(status="ok", kind=None)
             return record, result["run"]
+        record["kind"] = RUN_FAILURE
         return record, result["exception"]
     if isinstance(result, tuple):  # as_completed gives (type, error, traceback)
         result = result[1]
@@ -249,11 +259,20 @@ def failure(name, record, error=None):
 
 
 def missing(scenes, out_dir, *, rerun_failed=False):
-    """The Jobs of ``scenes`` that ``out_dir`` has no folder for (or a failed one)."""
+    """The Jobs of ``scenes`` to run: those ``out_dir`` has no run folder for, or one that
+    failed of kind ``INFRASTRUCTURE_FAILURE``, or (``rerun_failed``) any failed one."""
     runs = Path(out_dir) / "runs"
-    keep = ("ok",) if rerun_failed else ("ok", "failed")
     return [job for job in jobs_of(scenes).values()
-            if (read_status(runs / job.hash) or {}).get("status") not in keep]
+            if not kept(read_status(runs / job.hash), rerun_failed=rerun_failed)]
+
+
+def kept(record, *, rerun_failed=False):
+    """Whether a run folder's status record (None: no folder) stands, not to be run again: an
+    ok run, or a run failure unless ``rerun_failed`` (see ``missing``)."""
+    status = (record or {}).get("status")
+    if status == "failed":
+        return not rerun_failed and failure_kind(record) == RUN_FAILURE
+    return status == "ok"
 
 
 def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=None,

@@ -1,6 +1,8 @@
 """A sweep's results folder: a run folder per content hash (written whole as its run
 completes), the index rebuilt from them, a lock so that one sweep writes at a time
-(``study.sweep`` describes the layout)."""
+(``study.sweep`` describes the layout). A failed run's status.json says its kind: "run" (the
+simulation raised: kept) or "infrastructure" (Dask gave no result, or its files could not be
+written: the next sweep runs it again); one without a kind counts as "run"."""
 
 import contextlib
 import csv
@@ -18,6 +20,10 @@ from drake_car.scene.load import dump_scene_file
 from drake_car.sim.outputs import OutputError, write_run
 
 INDEX_FIELDS = ("hash", "name", "status", "wall_s", "error")
+# A failed run's kind (its status.json's "kind"): the run itself raised (kept: a run is a pure
+# function of its scene), or the machinery around it failed (run again by the next sweep).
+RUN_FAILURE = "run"
+INFRASTRUCTURE_FAILURE = "infrastructure"
 
 
 def read_status(folder):
@@ -26,6 +32,12 @@ def read_status(folder):
         return json.loads((Path(folder) / "status.json").read_text())
     except (OSError, ValueError):
         return None
+
+
+def failure_kind(record):
+    """A failed run's kind, ``RUN_FAILURE`` or ``INFRASTRUCTURE_FAILURE`` (a status.json
+    written before kinds were recorded has none: its run failed)."""
+    return record.get("kind") or RUN_FAILURE
 
 
 def rebuild_index(out_dir):
@@ -53,7 +65,8 @@ def load_run(out_dir, key):
 
 
 def commit_run(runs, job, record, result):
-    """Writes one run's folder as ``runs/.tmp-*`` and renames it to ``runs/<hash>``."""
+    """Writes one run's folder as ``runs/.tmp-*`` and renames it to ``runs/<hash>``. An ok run
+    whose files cannot be written is recorded as failed, of kind ``INFRASTRUCTURE_FAILURE``."""
     tmp = runs / f".tmp-{job.hash}-{uuid.uuid4().hex[:8]}"
     try:
         tmp.mkdir()
@@ -64,8 +77,9 @@ def commit_run(runs, job, record, result):
             except Exception as e:  # this run fails, not the sweep
                 shutil.rmtree(tmp)
                 tmp.mkdir()
-                record.update(status="failed", error=f"writing its files: {type(e).__name__}: "
-                              f"{e}", traceback=traceback.format_exc())
+                record.update(status="failed", kind=INFRASTRUCTURE_FAILURE,
+                              error=f"writing its files: {type(e).__name__}: {e}",
+                              traceback=traceback.format_exc())
         if not (tmp / "scene.yaml").exists():
             (tmp / "scene.yaml").write_text(dump_scene_file(job.scene))
         (tmp / "status.json").write_text(json.dumps(record, indent=1) + "\n")

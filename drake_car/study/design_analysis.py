@@ -1,0 +1,91 @@
+"""The design study from its finished runs: the tidy table (one row per run: every varied value,
+every outcome, the scene's hash) and the analysis that the report reads (maps, lines, Sobol,
+Monte Carlo and mitigations, the numerical noise), with the figures written beside it."""
+
+import math
+
+from drake_car.scene.load import scene_hash
+from drake_car.sim.outputs import provenance
+from drake_car.study import design_figures as figures
+from drake_car.study import design_report as report
+from drake_car.study.design import OUTCOMES, factor, outcomes, paper_value, value_of
+from drake_car.study.sweep_folder import load_run, read_status
+
+
+def table(study, parts, sweep_dir):
+    """One row per run of ``parts`` ({role: {name: (scene, values)}}), from ``sweep_dir``."""
+    keys = [f.key for f in study.factors] + [line.key for line in study.lines
+                                             if line.key not in {f.key for f in study.factors}]
+    rows = []
+    for role, part in parts.items():
+        for name, (scene, values) in part.items():
+            key = scene_hash(scene)
+            status = (read_status(sweep_dir / "runs" / key) or {}).get("status", "missing")
+            row = {"name": name, "role": role, "hash": key, "status": status}
+            row |= {k: value_of(scene, k) for k in keys}
+            row |= {"sample": values.get("sample", ""), "mitigation": values.get("mitigation", ""),
+                    "line": values.get("line", ""), "of": values.get("of", "")}
+            result = (outcomes(load_run(sweep_dir, key)[1].history, scene, study)
+                      if status == "ok" else {k: math.nan for k in OUTCOMES})
+            rows.append(row | result)
+    return rows
+
+
+def analyse(study, rows, out, sweep, wall_s):
+    """The study's summary (what ``design_report.report`` writes up); figures into ``out``."""
+    noise = report.noise_levels(rows)
+    threshold = 100 * study.split_threshold
+    outcomes_drawn = (("split_change_rel", 100.0, threshold,
+                       "lasting front load split change [% of corner load]"),
+                      ("pull_deg", 1.0, study.pull_threshold_deg,
+                       f"heading change over {study.pull_distance_m:g} m hands off [deg]"))
+    maps = []
+    for i, spec in enumerate(study.maps):
+        part = [r for r in rows if r["name"].startswith(f"map{i}_")]
+        fx, fy = factor(study, spec.x), factor(study, spec.y)
+        for outcome, scale, limit, unit in outcomes_drawn:
+            xs, ys, values = report.map_grid(study, spec, part, outcome, scale)
+            name = f"map{i}_{outcome}.png"
+            figures.heat_map(xs, ys, values, x_label=fx.label, y_label=fy.label,
+                             paper=(paper_value(study, fx), paper_value(study, fy)),
+                             threshold=limit, title=f"{fy.label} × {fx.label}",
+                             path=out / name, value_label=unit,
+                             noise=noise.get(outcome, 0.0) * scale)
+            maps.append({"figure": name, "caption": f"{unit} over {fx.label} × {fy.label}; "
+                         "the star is the paper's car, the line the threshold; x marks cells "
+                         "within the numerical noise of it"})
+    lines = report.line_tables(study, [r for r in rows if r["role"] == "line"])
+    if lines:
+        figures.lines(lines, study.line_mu_s, split_threshold=threshold,
+                      pull_threshold=study.pull_threshold_deg,
+                      noise=(100 * noise.get("split_change_rel", 0.0), noise.get("pull_deg", 0.0)),
+                      path=out / "lines.png")
+    sobol_rows = [r for r in rows if r["role"] == "sobol"]
+    sobol = report.sobol_tables(study, sobol_rows)
+    if sobol is not None:
+        figures.sobol_bars(sobol, out / "sobol.png")
+    baseline = [r for r in rows if r["role"] == "mc"]
+    mitigation_rows = [r for r in rows if r["role"] == "mitigation"]
+    mitigations = report.mitigation_table(study, baseline, mitigation_rows)
+    cases = {"baseline": [100 * r["split_change_rel"] for r in baseline]}
+    for m in study.mitigations:
+        cases[m.name] = [100 * r["split_change_rel"] for r in mitigation_rows
+                         if r["mitigation"] == m.name]
+    figures.distributions(cases, x_label="|lasting front load split change| [% of corner "
+                          "load]", threshold=threshold, path=out / "monte_carlo.png",
+                          title="Jam states (Monte Carlo) and mitigations")
+    failed = [r["name"] for r in rows if r["status"] != "ok"]
+    return {"split_threshold": study.split_threshold,
+            "pull_threshold_deg": study.pull_threshold_deg,
+            "pull_distance_m": study.pull_distance_m,
+            "factors": report.factor_rows(study), "maps": maps, "lines": lines,
+            "sobol": sobol, "sobol_failed": [r["name"] for r in sobol_rows
+                                             if r["status"] != "ok"],
+            "monte_carlo": vars(study.monte_carlo), "mitigation_samples": study.mitigation_samples,
+            "mitigations": mitigations,
+            "noise": {"pairs": sum(r["role"] == "noise" for r in rows), "levels": noise},
+            "answers": report.answers(study, rows, sobol, mitigations, noise, lines),
+            "method": report.method(study),
+            "runs": {"total": len(rows), "reused": sweep["reused"], "failed": len(failed),
+                     "failed_names": failed},
+            "wall_s": wall_s, "provenance": provenance()}
