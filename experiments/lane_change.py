@@ -56,6 +56,10 @@ def main(argv=None):
     p.add_argument("--no_paper_drive", action="store_true",
                    help="skip the comparison with the paper's own drive (both front wheels' "
                         "rotation prescribed: a locked front axle)")
+    p.add_argument("--scheduler", default=None,
+                   help="a Dask scheduler's address (default: a local cluster)")
+    p.add_argument("--workers", type=cli.count, default=None,
+                   help="local workers (default: one per core)")
     args = p.parse_args(argv)
     cli.check_out(args)
     scenes = load_scene_file(args.scene, args.scene_text or None)
@@ -78,7 +82,8 @@ def main(argv=None):
             for name, s in scenes.items()}
         # One sweep (one progress bar) over the runs, their half-step repetitions and the
         # comparison with the paper's drive.
-        done = run_scenes(scenes | {n + HALF: s for n, s in halved.items()} | locked)
+        done = run_scenes(scenes | {n + HALF: s for n, s in halved.items()} | locked,
+                          scheduler=args.scheduler, workers=args.workers)
         runs = {name: done[name] for name in scenes}
         study = study_runs(runs)
         timeline = study_timeline(runs)

@@ -22,7 +22,9 @@ sys.path.insert(0, str(ROOT / "experiments"))
 
 import accuracy_cost  # noqa: E402
 import calibrate_lane_change  # noqa: E402
+import design_study  # noqa: E402
 import friction_rig  # noqa: E402
+import handling  # noqa: E402
 import lane_change  # noqa: E402
 import settle  # noqa: E402
 import suspension_kinematics  # noqa: E402
@@ -161,6 +163,19 @@ CASES = [
      lambda t: ["--scene_text", "friction: {law: {mu_s: high}}"], "friction.law.mu_s"),
     ("accuracy sweep: bad scene", accuracy_cost.main,
      lambda t: ["--scene_text", "plant: {time_step: -1.0}"], "plant.time_step"),
+    ("design study: a factor that is no scene key", design_study.main,
+     lambda t: ["--study", _study(t, "key: car.front.guide_length_l_m",
+                                  "key: car.front.guide_length") + ":study"],
+     "no field 'guide_length'"),
+    ("design study: rough road into the manoeuvre", design_study.main,
+     lambda t: ["--study", _study(t, "length_m: 25.0", "length_m: 45.0") + ":study"],
+     "monte_carlo.length_m"),
+    ("design study: no workers", design_study.main, lambda t: ["--workers", "0"], "--workers"),
+    ("design study: out is a file", design_study.main, lambda t: ["--out", _file(t)],
+     "is a file"),
+    ("study: no workers", lane_change.main, lambda t: ["--workers", "-1"], "--workers"),
+    ("handling: bad scene text", handling.main,
+     lambda t: ["--scene_text", "car: {mass: {total_mass_kg: -5.0}}"], "car.mass.total_mass_kg"),
     ("calibration: bad scene", calibrate_lane_change.main,
      lambda t: ["--scene_text", "manoeuvre: !LaneChange {amplitude_m: 5.0}",
                 "--out", str(t / "calibration.json")], "manoeuvre.amplitude_m"),
@@ -170,6 +185,15 @@ CASES = [
 def _file(tmp_path):
     path = tmp_path / "a_file"
     path.write_text("not a folder")
+    return str(path)
+
+
+def _study(tmp_path, old, new):
+    """The design study's spec with ``old`` replaced by ``new``, as a file in ``tmp_path``."""
+    path = tmp_path / "study.yaml"
+    text = (ROOT / "scenes" / "studies" / "design.yaml").read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
     return str(path)
 
 
@@ -205,7 +229,8 @@ def test_bad_input_is_refused_cleanly(label, main, argv, key, tmp_path, capsys, 
     assert "Traceback" not in err
     assert not out.exists(), f"{label}: the output folder was written"
     assert not leftovers(tmp_path), f"{label}: {leftovers(tmp_path)} left behind"
-    assert set(tmp_path.iterdir()) - before <= {tmp_path / "bad.tir"}, label
+    assert set(tmp_path.iterdir()) - before <= {tmp_path / "bad.tir", tmp_path / "study.yaml"}, \
+        label
 
 
 def test_there_are_at_least_thirty_cases():

@@ -58,7 +58,7 @@ class MassParameters:
     total_mass_kg: float = 1225.9
     # [ESC] the sprung mass's CoG to the front and rear axle (CommonRoad's parameters_vehicle1:
     # "distance from spring mass center of gravity to front/rear axle"); the whole car's CoG
-    # follows with the parts where they are (model.geometry.centre_of_mass: 0.92 m).
+    # follows with the parts where they are (model.geometry.centre_of_mass: 0.910 m).
     cog_to_front_axle_m: float = 0.884
     cog_to_rear_axle_m: float = 1.509
     # [ESC] CoG height of the sprung mass.

@@ -165,7 +165,7 @@ def _paper_drive(s):
     lines = ["## The paper's own drive, for comparison", "",
              "The runs above drive the front wheels through an open differential (one torque "
              "split equally: a front-drive car). The paper prescribes both front wheels' "
-             "rotation, which locks the front axle: about 3 deg/g more understeer on this car "
+             "rotation, which locks the front axle: about 2.6 deg/g more understeer on this car "
              "(experiments/handling.py), and the launch follows the prescribed speed even "
              "beyond the tyres' grip. The same six runs, the same rack input, with the paper's "
              "drive (the car then turns less and its struts see other loads):", "",
