@@ -2,6 +2,7 @@
 histories), Sobol indices on a function with known indices, and the whole study as a smoke run
 (--quick)."""
 
+import csv
 import dataclasses
 import json
 import math
@@ -14,7 +15,7 @@ import pytest
 
 from drake_car.data import resource
 from drake_car.law.road import CosineBump
-from drake_car.scene.load import SceneError
+from drake_car.scene.load import SceneError, scene_hash
 from drake_car.study import design_runs
 from drake_car.study.design import load_study, outcomes, paper_value, rough_road, with_value
 from drake_car.study.sensitivity import sobol_indices, sobol_points
@@ -143,8 +144,18 @@ def test_the_study_s_runs():
     on = STUDY.base.manoeuvre.timeline
     assert scene.steering.release_s == pytest.approx(on.duration_s)
     assert scene.manoeuvre.timeline.duration_s > on.duration_s + STUDY.pull_distance_m / on.speed_mps
-    assert len(design_runs.mitigation_scenes(quick)) == (len(quick.mitigations)
-                                                         * quick.mitigation_samples)
+    mitigations = design_runs.mitigation_scenes(quick)
+    assert len(mitigations) == (len(quick.mitigations) + 1) * quick.mitigation_samples
+    # Each group over the same jam states at the mitigations' μs; the car as it is first.
+    quick_mc = design_runs.monte_carlo_scenes(quick, samples=2)
+    first = mitigations["mitigation0_0001"][0]
+    assert first.friction.law.mu_s == STUDY.mitigation_mu_s
+    assert first.road == quick_mc["mc_0001"][0].road
+    lower = [m for m in STUDY.mitigations if "friction" in m.scene_text]
+    if lower:  # a group equal to the Monte Carlo's runs shares their hashes: run once
+        j = 1 + STUDY.mitigations.index(lower[0])
+        assert (scene_hash(mitigations[f"mitigation{j}_0001"][0])
+                == scene_hash(quick_mc["mc_0001"][0]))
     parts = {"map": maps, "line": lines, "mc": mc}
     sample = design_runs.noise_sample(dataclasses.replace(STUDY, noise_samples=6), parts)
     assert len(sample) == len(set(sample)) == 6
@@ -167,8 +178,10 @@ def test_design_study_quick_end_to_end(tmp_path):
     assert summary["runs"]["failed"] == 0 and summary["answers"]
     table = (study / "table.csv").read_text().splitlines()
     assert len(table) - 1 == summary["runs"]["total"]
-    # Rerunning reuses every finished run.
+    # Rerunning reuses every finished run (rows of equal scenes share one run).
+    with open(study / "table.csv", newline="") as f:
+        runs = {row["hash"] for row in csv.DictReader(f)}
+    assert len(runs) < len(table) - 1  # the mitigations' lower-friction group is the MC's
     again = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert again.returncode == 0
-    assert json.loads((study / "summary.json").read_text())["runs"]["reused"] == \
-        summary["runs"]["total"]
+    assert json.loads((study / "summary.json").read_text())["runs"]["reused"] == len(runs)

@@ -12,12 +12,13 @@ the tie rods pull unequally on the rack, and a car whose driver lets go of the w
 
 import dataclasses
 import math
+import typing
 
 import numpy as np
 from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.law.road import SampledProfile
-from drake_car.scene.load import SceneError, check_scene, hands_off_release_s
+from drake_car.scene.load import SceneError, check_scene, hands_off_release_s, load_scene
 from drake_car.scene.manoeuvres import speed_profile
 from drake_car.scene.scene import HandsOff, Scene
 from drake_car.study.paper import place_values
@@ -94,6 +95,9 @@ class DesignStudy:
     monte_carlo: MonteCarlo = dataclasses.field(default_factory=MonteCarlo)
     mitigations: list[Mitigation] = dataclasses.field(default_factory=list)
     mitigation_samples: int = 40
+    # The μs the mitigations are compared at (μd by mu_d_ratio), over a baseline of their own
+    # at it; None: the base scene's. A mitigation matters where the struts jam.
+    mitigation_mu_s: typing.Optional[float] = None
     noise_samples: int = 16  # runs repeated at half the step
     split_threshold: float = 0.01  # the lasting split that matters, of the static corner load
     pull_distance_m: float = 50.0  # the heading drift is taken over this distance
@@ -121,6 +125,13 @@ def load_study(path, child=None) -> DesignStudy:
         for value in line.values:
             for mu_s in study.line_mu_s:
                 with_value(study, {line.key: value, "friction.law.mu_s": mu_s})
+    if study.mitigation_mu_s is not None:
+        with_value(study, {"friction.law.mu_s": study.mitigation_mu_s})
+    for m in study.mitigations:
+        try:
+            load_scene(scene_text=m.scene_text, base=study.base)
+        except SceneError as e:
+            raise SceneError(f"{path}: mitigation {m.name!r}: {e}") from None
     _check_rough_road(study, path)
     return study
 

@@ -8,6 +8,7 @@ from drake_car.scene.load import scene_hash
 from drake_car.sim.outputs import provenance
 from drake_car.study import design_figures as figures
 from drake_car.study import design_report as report
+from drake_car.study import design_runs as runs_of
 from drake_car.study.design import OUTCOMES, factor, outcomes, paper_value, value_of
 from drake_car.study.sweep_folder import load_run, read_status
 
@@ -64,13 +65,15 @@ def analyse(study, rows, out, sweep, wall_s):
     sobol = report.sobol_tables(study, sobol_rows)
     if sobol is not None:
         figures.sobol_bars(sobol, out / "sobol.png")
-    baseline = [r for r in rows if r["role"] == "mc"]
-    mitigation_rows = [r for r in rows if r["role"] == "mitigation"]
-    mitigations = report.mitigation_table(study, baseline, mitigation_rows)
-    cases = {"baseline": [100 * r["split_change_rel"] for r in baseline]}
-    for m in study.mitigations:
-        cases[m.name] = [100 * r["split_change_rel"] for r in mitigation_rows
-                         if r["mitigation"] == m.name]
+    jam_label = f"jam states (μs {study.base.friction.law.mu_s:g})"
+    jam_states = report.group_summary(jam_label, [r for r in rows if r["role"] == "mc"], study)
+    baseline = runs_of.mitigation_baseline(study)
+    mitigations = report.mitigation_table(study, rows, baseline)
+    cases = {jam_label: [100 * r["split_change_rel"] for r in rows if r["role"] == "mc"]}
+    for m in mitigations:
+        cases[m["mitigation"]] = [100 * r["split_change_rel"] for r in rows
+                                  if r["role"] == "mitigation"
+                                  and r["mitigation"] == m["mitigation"]]
     figures.distributions(cases, x_label="|lasting front load split change| [% of corner "
                           "load]", threshold=threshold, path=out / "monte_carlo.png",
                           title="Jam states (Monte Carlo) and mitigations")
@@ -82,10 +85,13 @@ def analyse(study, rows, out, sweep, wall_s):
             "sobol": sobol, "sobol_failed": [r["name"] for r in sobol_rows
                                              if r["status"] != "ok"],
             "monte_carlo": vars(study.monte_carlo), "mitigation_samples": study.mitigation_samples,
+            "jam_states": jam_states, "mitigation_mu_s": study.mitigation_mu_s,
             "mitigations": mitigations,
             "noise": {"pairs": sum(r["role"] == "noise" for r in rows), "levels": noise},
-            "answers": report.answers(study, rows, sobol, mitigations, noise, lines),
+            "answers": report.answers(study, rows, sobol, jam_states, mitigations, noise,
+                                     lines),
             "method": report.method(study),
-            "runs": {"total": len(rows), "reused": sweep["reused"], "failed": len(failed),
+            "runs": {"total": len(rows), "distinct": len({r["hash"] for r in rows}),
+                     "reused": sweep["reused"], "failed": len(failed),
                      "failed_names": failed},
             "wall_s": wall_s, "provenance": provenance()}

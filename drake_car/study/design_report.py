@@ -59,23 +59,24 @@ def distribution_summary(values, threshold):
             "share_above": float(np.mean(v > threshold))}
 
 
-def mitigation_table(study, baseline_rows, mitigation_rows):
-    """Each mitigation against the same Monte-Carlo states of the baseline."""
-    rows = []
-    n = study.mitigation_samples
-    base = baseline_rows[:n]
-    entries = [("baseline (the study's car)", base, "")] + [
-        (m.name, [r for r in mitigation_rows if r.get("mitigation") == m.name], m.reason)
-        for m in study.mitigations]
-    for name, runs, reason in entries:
-        ok = [r for r in runs if r["status"] == "ok"]
-        rows.append({
-            "mitigation": name, "reason": reason, "runs": len(ok),
+def group_summary(name, rows, study, reason=""):
+    """The distributions of the split and the pull over ``rows`` (its ok runs)."""
+    ok = [r for r in rows if r["status"] == "ok"]
+    return {"mitigation": name, "reason": reason, "runs": len(ok),
             "split": distribution_summary([100 * r["split_change_rel"] for r in ok],
                                           100 * study.split_threshold),
             "pull": distribution_summary([r["pull_deg"] for r in ok],
-                                         study.pull_threshold_deg)})
-    return rows
+                                         study.pull_threshold_deg)}
+
+
+def mitigation_table(study, rows, baseline):
+    """The mitigations' baseline group (named ``baseline``), then each mitigation, over the
+    same jam states."""
+    groups = [(baseline, "")] + [(m.name, " ".join(m.reason.split()))
+                                 for m in study.mitigations]
+    return [group_summary(name, [r for r in rows if r["role"] == "mitigation"
+                                 and r["mitigation"] == name], study, reason)
+            for name, reason in groups]
 
 
 def _fmt(x, unit="", digits=2):
@@ -89,8 +90,11 @@ def report(s, figures=""):
     lines = ["# Where does strut friction change the wheel loads and the steering?", "",
              f"Made by `{s['provenance']['command']}`, commit "
              f"{(s['provenance']['git_commit'] or 'unknown')[:10]}, {s['provenance']['created_utc']}; "
-             f"{s['runs']['total']} runs ({s['runs']['reused']} reused, {s['runs']['failed']} "
-             f"failed), {s['wall_s'] / 60:.1f} min wall.", "",
+             f"{s['runs']['total']} rows of the table, {s['runs']['distinct']} distinct runs "
+             f"({s['runs']['reused']} reused, {s['runs']['failed']} failed), "
+             f"{s['wall_s'] / 60:.1f} min wall"
+             + (" (the dirty checkout's files, not the commit's)"
+                if s['provenance'].get('dirty') else "") + ".", "",
              "## The question and the answer", "",
              "A strut that sticks leaves the coil spring of its side loaded differently from the "
              "other side's after a manoeuvre: the car then carries its weight unequally on its "
@@ -131,11 +135,12 @@ def report(s, figures=""):
               f"{mc['samples']} runs over random road unevenness before the manoeuvre "
               f"(±{1e3 * mc['roughness_m']:g} mm every {mc['spacing_m']:g} m, independent left "
               f"and right, from {mc['start_m']:g} to {mc['length_m']:g} m: during the "
-              "speed-up), the driver letting go after it; each mitigation over the first {s['mitigation_samples']} of the "
-              f"same states (`{figures}monte_carlo.png`).", "",
+              "speed-up), the driver letting go after it. The mitigations over the first "
+              f"{s['mitigation_samples']} of the same states, against the car as it is at "
+              f"their μs (`{figures}monte_carlo.png`).", "",
               "| case | runs | |split| median / p90 [%] | share > threshold | |pull| median "
               "/ p90 [deg] | share > threshold |", "|---|---|---|---|---|---|"]
-    for m in s["mitigations"]:
+    for m in [s["jam_states"], *s["mitigations"]]:
         sp, pu = m["split"], m["pull"]
         lines.append(f"| {m['mitigation']} | {m['runs']} | {_fmt(sp.get('median'))} / "
                      f"{_fmt(sp.get('p90'))} | {_fmt(sp.get('share_above'), '', 2)} | "
@@ -200,11 +205,12 @@ def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0
     return (f"{unit} beyond the threshold over {fx.label} × {fy.label}: " + "; ".join(parts))
 
 
-def answers(study, table, sobol, mitigations, noise, line_rows=()):
-    """The study's answers in plain words, with numbers."""
+def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
+    """The study's answers in plain words, with numbers. ``jam_states``: the Monte Carlo's
+    ``group_summary``; ``mitigations``: ``mitigation_table``."""
     lines = []
     threshold = 100 * study.split_threshold
-    base = mitigations[0]
+    base = jam_states
     if base["runs"]:
         lines.append(
             f"The study's car (the paper's geometry, μs = {study.base.friction.law.mu_s:g}) over "
@@ -232,7 +238,7 @@ def answers(study, table, sobol, mitigations, noise, line_rows=()):
             lines.append(f"What decides {outcome}: {text or 'no factor resolved'}"
                          + (f"; not ranked (interval wider than the index): "
                             f"{', '.join(unresolved)}" if unresolved else "") + ".")
-    if len(mitigations) > 1 and base["runs"]:
+    if len(mitigations) > 1 and mitigations[0]["runs"]:
         lines.append(_mitigation_answer(mitigations, 100 * noise.get("split_change_rel", 0.0)))
     if noise:
         lines.append("Numerical noise (half-step reruns): the split changes by up to "
@@ -260,9 +266,10 @@ def _mitigation_answer(mitigations, noise):
                + ", ".join(ties))
     helps = [m["mitigation"] for m in ranked
              if base_median - m["split"].get("median", math.inf) > noise]
-    return (f"Mitigations, by the median lasting split over the same states (baseline "
-            f"{base_median:.2f} %): {text}. {verdict}. Lower than the baseline by more than the "
-            f"noise: {', '.join(helps) or 'none'}.")
+    return (f"Mitigations, by the median lasting split over the same {base['runs']} states "
+            f"({base['mitigation']}: {base_median:.2f} %, pull median "
+            f"{base['pull'].get('median', math.nan):.2f} deg): {text}. {verdict}. Lower than "
+            f"the baseline by more than the noise: {', '.join(helps) or 'none'}.")
 
 
 def line_tables(study, rows):
@@ -336,17 +343,25 @@ def method(study):
         f"rest {t.settle_s:g} s, speed-up {t.speed_up_s:g} s, straight {t.straight_s:g} s and "
         f"{t.calm_s:g} s after the manoeuvre (the paper's 0.8, 3.0, 1.2 and 2.6 s: shortened "
         "to save time; the car starts at rest in static equilibrium, so the rest needs no "
-        "length of its own).",
-        f"The static equilibrium settled for {study.base.simulator.equilibrium_settle_s:g} s "
-        "(the default 6 s). Measured on the base scene, 2026-11-23: against 6 s, 3 s moves the "
-        "rods' rest overlap by 0.22 mm and the lasting split by 0.2 N (of a 4 kN corner: 0.005 "
-        "%), the rods at place b by 0.2 mm.",
+        "length of its own). Measured 2026-11-23 on the default study (8 Sobol points, 3 jam "
+        "states): a calm phase of 1.5 s instead of 2.6 s moves the lasting split by at most "
+        "0.03 % and the rack force by 2.1 N; 1.0 s would move the split by up to 3.5 % (the "
+        "car is still settling).",
+        f"The static equilibrium settled for {study.base.simulator.equilibrium_settle_s:g} s at "
+        f"{1e3 * (study.base.simulator.equilibrium_time_step_s or 1e-3):g} ms (the default: "
+        "6 s at 1 ms). Measured 2026-11-23 on the base scene and a Sobol point: against 6 s at "
+        "1 ms, 3 s moves the rods' rest overlap by 0.22 mm and the lasting split by 0.3 N "
+        "(of a 4 kN corner: 0.007 %); at 4 ms instead of 1 ms the 3 s settle moves them by "
+        "0.01 mm and 0.02 N more.",
         f"μd = {study.mu_d_ratio:g} μs wherever μs varies (the paper's ratio).",
         "Places a and b: the 0.3 s before the lane change and the last 0.5 s of the calm "
         "phase after it, with hands on and off alike.",
         "Hands off: the driver lets go where the calm phase ends; the pull is the heading "
         f"change over the next {study.pull_distance_m:g} m; the steering wheel's inertia and "
         "the column's friction as in scene.HandsOff.",
+        "Mitigations: compared over the same jam states at μs = "
+        f"{study.mitigation_mu_s if study.mitigation_mu_s is not None else study.base.friction.law.mu_s:g}"
+        ", against the car as it is there.",
         f"Sobol: Saltelli's sample, {study.sobol_base_samples} base samples over "
         f"{len(study.factors)} factors ({study.sobol_base_samples * (len(study.factors) + 2)} "
         "runs), first-order and total indices with 95 % bootstrap intervals (SALib).",

@@ -73,28 +73,39 @@ def hands_off(study, scene):
                                steering=HandsOff(release_s=release))
 
 
-def monte_carlo_scenes(study, *, samples=None, scene_text=None, prefix="mc"):
+def monte_carlo_scenes(study, *, samples=None, mu_s=None, scene_text=None, prefix="mc"):
     """Jam states: the base scene on a seeded rough road before the manoeuvre, hands off after
-    it; ``scene_text`` (a mitigation) laid over each."""
-    base = study.base
-    if scene_text:
-        base = load_scene(scene_text=scene_text, base=base)
+    it; at ``mu_s`` (None: the base scene's), ``scene_text`` (a mitigation) laid over each."""
     scenes = {}
     for k in range(study.monte_carlo.samples if samples is None else samples):
         name = f"{prefix}_{k:04d}"
-        scene = dataclasses.replace(hands_off(study, base), name=name,
-                                    road=rough_road(study, k))
+        scene = dataclasses.replace(hands_off(study, study.base), road=rough_road(study, k))
+        if mu_s is not None:
+            scene = with_value(study, {"friction.law.mu_s": mu_s}, base=scene)
+        if scene_text:
+            scene = load_scene(scene_text=scene_text, base=scene)
         scenes[name] = (with_value(study, {}, name=name, base=scene), {"sample": k})
     return scenes
 
 
+def mitigation_baseline(study):
+    """The name of the mitigations' baseline group (the car as it is, at their μs)."""
+    mu_s = study.mitigation_mu_s
+    return "baseline" + (f" (μs {mu_s:g})" if mu_s is not None else "")
+
+
 def mitigation_scenes(study):
+    """The first ``mitigation_samples`` jam states at ``mitigation_mu_s``: the car as it is
+    (``mitigation_baseline``), then with each mitigation. A group equal to the Monte Carlo's
+    runs has their hashes, so the sweep runs it once."""
+    groups = [(mitigation_baseline(study), "")] + [(m.name, m.scene_text)
+                                                    for m in study.mitigations]
     scenes = {}
-    for j, mitigation in enumerate(study.mitigations):
+    for j, (label, scene_text) in enumerate(groups):
         for name, (scene, values) in monte_carlo_scenes(
-                study, samples=study.mitigation_samples, scene_text=mitigation.scene_text,
-                prefix=f"mitigation{j}").items():
-            scenes[name] = (scene, values | {"mitigation": mitigation.name})
+                study, samples=study.mitigation_samples, mu_s=study.mitigation_mu_s,
+                scene_text=scene_text, prefix=f"mitigation{j}").items():
+            scenes[name] = (scene, values | {"mitigation": label})
     return scenes
 
 
