@@ -95,29 +95,34 @@ def distributions(samples_by_case, *, x_label, threshold, path, title):
 
 
 def lines(line_tables, mu_s_values, *, split_threshold, pull_threshold, noise, path):
-    """One row per line (a factor varied alone): the lasting split (%) and the pull (deg)
-    against the factor's value, a curve per μs; the thresholds dashed, the numerical noise
-    (``noise``: split %, pull deg) as a band around zero."""
-    fig, axes = plt.subplots(len(line_tables), 2, figsize=(9.0, 2.6 * len(line_tables)),
+    """One row per line (a factor varied alone): the lasting split (%) and the pull (deg) at
+    each of the factor's values, in the spec's order and evenly spaced (a value such as 0 for
+    a rigid mount has no place on a linear axis), a curve per μs; the thresholds dashed, the
+    numerical noise (``noise``: split %, pull deg) as a band around zero."""
+    fig, axes = plt.subplots(len(line_tables), 2, figsize=(9.0, 2.6 * len(line_tables) + 0.4),
                              squeeze=False)
     for row, line in zip(axes, line_tables):
+        values = list(dict.fromkeys(p["value"] for p in line["points"]))
         for ax, key, limit, band, unit in ((row[0], "split_pct", split_threshold, noise[0],
                                             "lasting split [%]"),
                                            (row[1], "pull_deg", pull_threshold, noise[1],
                                             "pull [deg]")):
             for mu_s in mu_s_values:
                 pts = [p for p in line["points"] if p["mu_s"] == mu_s]
-                ax.plot([p["value"] for p in pts], [p[key] for p in pts], "o-",
+                ax.plot([values.index(p["value"]) for p in pts], [p[key] for p in pts], "o-",
                         label=f"μs = {mu_s:g}")
             for sign in (1, -1):
                 ax.axhline(sign * limit, color="k", ls="--", lw=0.8)
             ax.axhspan(-band, band, color="0.85", zorder=0, label="numerical noise")
+            ax.set_xticks(range(len(values)), [f"{v:g}" for v in values], fontsize=8)
             ax.set_xlabel(line["label"], fontsize=8)
             ax.set_ylabel(unit, fontsize=8)
             ax.grid(alpha=0.3)
-    axes[0][0].legend(fontsize=7)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=8,
+               frameon=False)
     axes[0][0].set_title("lasting front load split change (dashed: threshold)", fontsize=9)
     axes[0][1].set_title("heading change hands off (dashed: threshold)", fontsize=9)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)

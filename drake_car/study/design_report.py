@@ -266,10 +266,13 @@ def _mitigation_answer(mitigations, noise):
                + ", ".join(ties))
     helps = [m["mitigation"] for m in ranked
              if base_median - m["split"].get("median", math.inf) > noise]
+    worse = [m["mitigation"] for m in ranked
+             if m["split"].get("median", -math.inf) - base_median > noise]
     return (f"Mitigations, by the median lasting split over the same {base['runs']} states "
             f"({base['mitigation']}: {base_median:.2f} %, pull median "
             f"{base['pull'].get('median', math.nan):.2f} deg): {text}. {verdict}. Lower than "
-            f"the baseline by more than the noise: {', '.join(helps) or 'none'}.")
+            f"the baseline by more than the noise: {', '.join(helps) or 'none'}; higher: "
+            f"{', '.join(worse) or 'none'}.")
 
 
 def line_tables(study, rows):
