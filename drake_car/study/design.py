@@ -113,15 +113,26 @@ def load_study(path, child=None) -> DesignStudy:
     except Exception as e:
         raise SceneError(f"{path}: {' '.join(str(e).split())}") from None
     check_scene(study.base, f"{path}: base")
+    try:
+        _check_values(study)
+    except SceneError as e:
+        raise SceneError(f"{path}: {e}") from None
+    _check_rough_road(study, path)
+    return study
+
+
+def _check_values(study):
+    """Every factor's ends, every line's values, the mitigations' μs and scenes make valid
+    scenes."""
     for factor in study.factors:
         with_value(study, {factor.key: factor.low})
         with_value(study, {factor.key: factor.high})
         if not factor.low < factor.high:
-            raise SceneError(f"{path}: factor {factor.key}: low {factor.low} must be below high "
+            raise SceneError(f"factor {factor.key}: low {factor.low} must be below high "
                              f"{factor.high}")
     for line in study.lines:
         if not line.values:
-            raise SceneError(f"{path}: line {line.key}: values must not be empty")
+            raise SceneError(f"line {line.key}: values must not be empty")
         for value in line.values:
             for mu_s in study.line_mu_s:
                 with_value(study, {line.key: value, "friction.law.mu_s": mu_s})
@@ -131,9 +142,7 @@ def load_study(path, child=None) -> DesignStudy:
         try:
             load_scene(scene_text=m.scene_text, base=study.base)
         except SceneError as e:
-            raise SceneError(f"{path}: mitigation {m.name!r}: {e}") from None
-    _check_rough_road(study, path)
-    return study
+            raise SceneError(f"mitigation {m.name!r}: {e}") from None
 
 
 def _check_rough_road(study, path):
@@ -175,13 +184,15 @@ def factor(study, key) -> Factor:
                      f"{', '.join(f.key for f in study.factors)})")
 
 
-def _set(obj, path, value):
+def _set(obj, path, value, key=None):
     head, _, rest = path.partition(".")
     if not dataclasses.is_dataclass(obj) or head not in {f.name for f in dataclasses.fields(obj)}:
-        raise SceneError(f"factor key {path!r}: no field {head!r} in {type(obj).__name__}")
+        raise SceneError(f"factor key {(key or path)!r}: no field {head!r} in "
+                         f"{type(obj).__name__}")
     if not rest:
         return dataclasses.replace(obj, **{head: value})
-    return dataclasses.replace(obj, **{head: _set(getattr(obj, head), rest, value)})
+    return dataclasses.replace(obj, **{head: _set(getattr(obj, head), rest, value,
+                                                  key or path)})
 
 
 def with_value(study: DesignStudy, values: dict, *, name=None, base=None) -> Scene:
