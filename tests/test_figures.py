@@ -18,7 +18,7 @@ from drake_car.study.figures import FIGURES, all_figures, legend_overlaps, place
 from drake_car.study.measures import claim_measures
 from drake_car.study.paper import evaluate_claims, place_values
 from drake_car.study.measures import error_estimates, holds
-from drake_car.study.report import CLAIM_FIGURES, quantity, report, summary
+from drake_car.study.report import CLAIM_FIGURES, _flip, quantity, report, summary
 from test_study import TIMELINE, study_of
 
 VARIANTS = ({}, {"jammed_returns": True}, {"stays_put": True}, {"asymmetric_end": 0.002},
@@ -92,6 +92,10 @@ def test_error_estimates_give_the_difference_and_extrapolate_where_the_order_is_
     other = error_estimates([[measure]], [[dict(measure, value=0.9)]], first_order_runs=[])
     assert other[0][0]["extrapolated"] is None  # with dry friction the order is not known
     assert error_estimates([[measure]])[0][0]["abs_diff"] is None  # no half-step study
+    # A margin smaller than the error is said as such, not rounded to "0 × the error".
+    within = error_estimates([[dict(measure, value=1.4)]], [[dict(measure, value=1.2)]],
+                             first_order_runs=[])[0][0]
+    assert _flip(within) == "**0.5 × the error** (within it)"
 
 
 def test_quantities_are_written_in_the_readers_units():

@@ -115,7 +115,10 @@ def _flip(row):
         return "**flips at dt/2**"
     if row["abs_diff"] == 0:
         return "no change at dt/2"
-    return f"{row['margin'] / row['abs_diff']:.0f} × the error"
+    n = row["margin"] / row["abs_diff"]
+    if n < 1:  # the error is larger than the margin: the verdict is not robust
+        return f"**{n:.2g} × the error** (within it)"
+    return f"{n:.0f} × the error"
 
 
 def _signed(value, digits):
