@@ -37,14 +37,14 @@ def main(argv=None):
     p.add_argument("--quick", action="store_true", help="a smoke run of every part")
     p.add_argument("--scheduler", default=None, help="a Dask scheduler's address")
     p.add_argument("--workers", type=cli.count, default=None, help="local workers (default: cores)")
+    p.add_argument("--rerun_failed", action="store_true",
+                   help="run the failed runs again (a rerun reuses them otherwise)")
     args = p.parse_args(argv)
     path, child = parse_scene_option(args.study)
     study = load_study(path, child)
     if args.quick:
         study = runs_of.quick(study)
-    if args.out.exists() and not args.out.is_dir():
-        raise OutputError(f"--out {args.out}: is a file, not a folder")
-    check_output_target(args.out / "study")
+    check_study_folder(args.out)
     began = time.perf_counter()
     parts = {"map": {name: (runs_of.hands_off(study, scene), values)
                      for name, (scene, values) in runs_of.map_scenes(study).items()},
@@ -54,7 +54,8 @@ def main(argv=None):
     parts["noise"] = runs_of.noise_scenes(study, named, runs_of.noise_sample(study, parts))
     named |= parts["noise"]
     sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, args.out / "sweep",
-                      scheduler=args.scheduler, workers=args.workers)
+                      scheduler=args.scheduler, workers=args.workers,
+                      rerun_failed=args.rerun_failed)
     rows = design_analysis.table(study, parts, args.out / "sweep")
     with output_folder(args.out / "study") as out:
         summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began)
@@ -69,6 +70,17 @@ def main(argv=None):
         partial.unlink(missing_ok=True)
     print(f"{len(rows)} runs ({sweep['reused']} reused, {sweep['failed']} failed); wrote "
           f"{report}")
+
+
+def check_study_folder(out):
+    """``out`` is new, empty, or a design study's folder (its runs are resumed): refused before
+    any work otherwise."""
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"--out {out}: is a file, not a folder")
+    if out.is_dir() and any(out.iterdir()) and not (out / "sweep").is_dir():
+        raise OutputError(f"--out {out}: exists, is not empty and holds no design study (no "
+                          "sweep/ folder); choose a new or empty folder, or a study's to resume")
+    check_output_target(out / "study")
 
 
 if __name__ == "__main__":

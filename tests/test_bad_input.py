@@ -175,6 +175,8 @@ CASES = [
      lambda t: ["--study", _study(t, "length_m: 25.0", "length_m: 45.0") + ":study"],
      "monte_carlo.length_m"),
     ("design study: no workers", design_study.main, lambda t: ["--workers", "0"], "--workers"),
+    ("design study: out is a foreign folder", design_study.main,
+     lambda t: ["--quick", "--out", _foreign(t)], "holds no design study"),
     ("design study: out is a file", design_study.main, lambda t: ["--out", _file(t)],
      "is a file"),
     ("study: no workers", lane_change.main, lambda t: ["--workers", "-1"], "--workers"),

@@ -16,8 +16,10 @@ import pytest
 from drake_car.data import resource
 from drake_car.law.road import CosineBump
 from drake_car.scene.load import SceneError, scene_hash
-from drake_car.study import design_runs
-from drake_car.study.design import load_study, outcomes, paper_value, rough_road, with_value
+from drake_car.study import design_report, design_runs
+from drake_car.study import design_tables as tables
+from drake_car.study.design import (
+    Mitigation, load_study, outcomes, paper_value, rough_road, with_value)
 from drake_car.study.sensitivity import sobol_indices, sobol_points
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -128,6 +130,34 @@ def test_sobol_indices_of_a_known_function():
     assert len(points) == STUDY.sobol_base_samples * (len(keys) + 2)
 
 
+def test_mitigations_are_ranked_state_by_state_and_only_beyond_the_noise():
+    def rows(name, splits_pct):
+        return [{"role": "mitigation", "mitigation": name, "sample": k, "status": "ok",
+                 "split_change_rel": v / 100, "pull_deg": 0.1}
+                for k, v in enumerate(splits_pct)]
+    study = dataclasses.replace(STUDY, mitigations=[Mitigation(name=n) for n in "abc"])
+    base = [5.0, 1.0, 3.0, 8.0, 2.0, 6.0, 4.0, 7.0]  # 8 states: a sign test needs 7 of 8
+    a = [x - 0.9 for x in base]
+    b = [x - 0.85 for x in base]  # 0.05 % above a in every state
+    c = [x + 0.5 for x in base]
+    table = tables.mitigation_table(study, rows("baseline", base) + rows("a", a) + rows("b", b)
+                                    + rows("c", c), "baseline")
+    assert [m["mitigation"] for m in table] == ["baseline", "a", "b", "c"]
+    assert table[1]["paired"]["median"] == pytest.approx(-0.9)
+    assert table[1]["paired"]["share_lower"] == 1.0
+    assert table[1]["paired"]["sign_test_p"] == pytest.approx(2 / 2 ** 8)
+    text = design_report._mitigation_answer(table, noise=0.09)  # a - b = -0.05: noise
+    assert "not separable" in text and "higher: c" in text
+    assert "The best: a" in design_report._mitigation_answer(table, noise=0.01)
+    mixed = [x - 0.9 if k % 2 else x - 0.5 for k, x in enumerate(base)]  # half the states
+    table = tables.mitigation_table(study, rows("baseline", base) + rows("a", a)
+                                    + rows("b", mixed) + rows("c", c), "baseline")
+    assert "not separable" in design_report._mitigation_answer(table, noise=0.01)
+    same = tables.mitigation_table(study, sum((rows(n, base) for n in ("baseline", *"abc")),
+                                               []), "baseline")
+    assert "None lowers the split" in design_report._mitigation_answer(same, noise=0.09)
+
+
 def test_the_study_s_runs():
     quick = design_runs.quick(STUDY)
     maps = design_runs.map_scenes(quick)
@@ -152,10 +182,9 @@ def test_the_study_s_runs():
     assert first.friction.law.mu_s == STUDY.mitigation_mu_s
     assert first.road == quick_mc["mc_0001"][0].road
     lower = [m for m in STUDY.mitigations if "friction" in m.scene_text]
-    if lower:  # a group equal to the Monte Carlo's runs shares their hashes: run once
-        j = 1 + STUDY.mitigations.index(lower[0])
-        assert (scene_hash(mitigations[f"mitigation{j}_0001"][0])
-                == scene_hash(quick_mc["mc_0001"][0]))
+    assert lower  # a group equal to the Monte Carlo's runs shares their hashes: run once
+    j = 1 + STUDY.mitigations.index(lower[0])
+    assert scene_hash(mitigations[f"mitigation{j}_0001"][0]) == scene_hash(quick_mc["mc_0001"][0])
     parts = {"map": maps, "line": lines, "mc": mc}
     sample = design_runs.noise_sample(dataclasses.replace(STUDY, noise_samples=6), parts)
     assert len(sample) == len(set(sample)) == 6

@@ -266,14 +266,9 @@ def outcomes(history, scene: Scene, study: DesignStudy):
         release = hands_off_release_s(scene)
         t, yaw, y = h["t"], h["yaw_rad"], h["y_m"]
         speed = float(np.interp(release, t, h["speed_mps"]))
-        until = min(release + study.pull_distance_m / max(speed, 1e-3), t[-1])
-        out["pull_deg"] = math.degrees(float(np.interp(until, t, yaw) - np.interp(release, t, yaw)))
-        out["pull_lateral_m"] = float(np.interp(until, t, y) - np.interp(release, t, y))
+        until = release + study.pull_distance_m / max(speed, 1e-3)
+        if until <= t[-1]:  # else the run ended before the pull distance: no pull (NaN)
+            out["pull_deg"] = math.degrees(float(np.interp(until, t, yaw)
+                                                 - np.interp(release, t, yaw)))
+            out["pull_lateral_m"] = float(np.interp(until, t, y) - np.interp(release, t, y))
     return {k: float(v) for k, v in out.items()}
-
-
-def pull_span_s(scene: Scene, study: DesignStudy):
-    """How long after letting go a run must last to measure the pull (s), at the cruising
-    speed."""
-    return study.pull_distance_m / scene.manoeuvre.timeline.speed_mps
-

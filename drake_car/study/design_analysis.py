@@ -9,6 +9,7 @@ from drake_car.sim.outputs import provenance
 from drake_car.study import design_figures as figures
 from drake_car.study import design_report as report
 from drake_car.study import design_runs as runs_of
+from drake_car.study import design_tables as tables
 from drake_car.study.design import OUTCOMES, factor, outcomes, paper_value, value_of
 from drake_car.study.sweep_folder import load_run, read_status
 
@@ -34,7 +35,7 @@ def table(study, parts, sweep_dir):
 
 def analyse(study, rows, out, sweep, wall_s):
     """The study's summary (what ``design_report.report`` writes up); figures into ``out``."""
-    noise = report.noise_levels(rows)
+    noise = tables.noise_levels(rows)
     threshold = 100 * study.split_threshold
     outcomes_drawn = (("split_change_rel", 100.0, threshold,
                        "lasting front load split change [% of corner load]"),
@@ -45,7 +46,7 @@ def analyse(study, rows, out, sweep, wall_s):
         part = [r for r in rows if r["name"].startswith(f"map{i}_")]
         fx, fy = factor(study, spec.x), factor(study, spec.y)
         for outcome, scale, limit, unit in outcomes_drawn:
-            xs, ys, values = report.map_grid(study, spec, part, outcome, scale)
+            xs, ys, values = tables.map_grid(study, spec, part, outcome, scale)
             name = f"map{i}_{outcome}.png"
             figures.heat_map(xs, ys, values, x_label=fx.label, y_label=fy.label,
                              paper=(paper_value(study, fx), paper_value(study, fy)),
@@ -55,20 +56,20 @@ def analyse(study, rows, out, sweep, wall_s):
             maps.append({"figure": name, "caption": f"{unit} over {fx.label} × {fy.label}; "
                          "the star is the paper's car, the line the threshold; x marks cells "
                          "within the numerical noise of it"})
-    lines = report.line_tables(study, [r for r in rows if r["role"] == "line"])
+    lines = tables.line_tables(study, [r for r in rows if r["role"] == "line"])
     if lines:
         figures.lines(lines, study.line_mu_s, split_threshold=threshold,
                       pull_threshold=study.pull_threshold_deg,
                       noise=(100 * noise.get("split_change_rel", 0.0), noise.get("pull_deg", 0.0)),
                       path=out / "lines.png")
     sobol_rows = [r for r in rows if r["role"] == "sobol"]
-    sobol = report.sobol_tables(study, sobol_rows)
+    sobol = tables.sobol_tables(study, sobol_rows)
     if sobol is not None:
         figures.sobol_bars(sobol, out / "sobol.png")
     jam_label = f"jam states (μs {study.base.friction.law.mu_s:g})"
-    jam_states = report.group_summary(jam_label, [r for r in rows if r["role"] == "mc"], study)
+    jam_states = tables.group_summary(jam_label, [r for r in rows if r["role"] == "mc"], study)
     baseline = runs_of.mitigation_baseline(study)
-    mitigations = report.mitigation_table(study, rows, baseline)
+    mitigations = tables.mitigation_table(study, rows, baseline)
     cases = {jam_label: [100 * r["split_change_rel"] for r in rows if r["role"] == "mc"]}
     for m in mitigations:
         cases[m["mitigation"]] = [100 * r["split_change_rel"] for r in rows

@@ -1,82 +1,25 @@
-"""The design study's analysis and report (pure): the tidy table's rows, the maps' grids, the
-Sobol indices, the Monte-Carlo distributions with each mitigation, the numerical noise, and
-the Markdown report that answers the study's question in plain words."""
+"""The design study's report (pure): the Markdown that answers the study's question in plain
+words, from the summary ``design_analysis.analyse`` makes of the rows (``design_tables``)."""
 
 import math
 
 import numpy as np
 
-from drake_car.study.design import OUTCOMES, factor, paper_value
-from drake_car.study.sensitivity import factor_values, sobol_indices
-
-# The outcomes the Sobol analysis ranks the factors on (hands-on runs).
-SOBOL_OUTCOMES = ("split_change_rel", "rack_force_change_N")
+from drake_car.study.design import factor, paper_value
+from drake_car.study.design_tables import map_grid
 
 
-def noise_levels(table):
-    """Per outcome, the largest |x(dt) - x(dt/2)| over the half-step pairs (the noise below
-    which no boundary or ranking is drawn)."""
-    by_name = {row["name"]: row for row in table}
-    levels = {}
-    for row in table:
-        if row["role"] != "noise" or row["status"] != "ok":
-            continue
-        original = by_name.get(row["of"])
-        if original is None or original["status"] != "ok":
-            continue
-        for key in OUTCOMES:
-            a, b = original[key], row[key]
-            if math.isfinite(a) and math.isfinite(b):
-                levels[key] = max(levels.get(key, 0.0), abs(a - b))
-    return levels
+# How the noise of each outcome is written: (scale, unit).
+NOISE_UNITS = {"split_change_N": (1.0, "N"), "split_change_rel": (100.0, "% of the corner load"),
+               "stuck_left": (100.0, "% of the run"), "stuck_right": (100.0, "% of the run"),
+               "dd_left_a_m": (1e3, "mm"), "dd_left_b_m": (1e3, "mm"),
+               "dd_right_a_m": (1e3, "mm"), "dd_right_b_m": (1e3, "mm"),
+               "rack_force_change_N": (1.0, "N"), "pull_deg": (1.0, "deg"),
+               "pull_lateral_m": (1.0, "m")}
 
 
-def map_grid(study, spec, rows, outcome="split_change_rel", scale=100.0):
-    """(xs, ys, values[j][i] × scale) of a map from its rows (in map_points' order)."""
-    fx, fy = factor(study, spec.x), factor(study, spec.y)
-    xs, ys = factor_values(fx, spec.points), factor_values(fy, spec.points)
-    values = np.full((len(ys), len(xs)), np.nan)
-    for k, row in enumerate(rows):
-        if row["status"] == "ok":
-            values[k // len(xs), k % len(xs)] = scale * row[outcome]
-    return xs, ys, values
-
-
-def sobol_tables(study, rows):
-    """{outcome: index rows} from the Sobol runs (in sample order); None if a run failed
-    (Saltelli's estimators need every point)."""
-    if any(r["status"] != "ok" for r in rows):
-        return None
-    return {key: sobol_indices(study, [r[key] for r in rows]) for key in SOBOL_OUTCOMES}
-
-
-def distribution_summary(values, threshold):
-    v = np.abs(np.asarray([x for x in values if math.isfinite(x)], dtype=float))
-    if v.size == 0:
-        return {"n": 0}
-    return {"n": int(v.size), "median": float(np.median(v)),
-            "p90": float(np.percentile(v, 90)), "max": float(np.max(v)),
-            "share_above": float(np.mean(v > threshold))}
-
-
-def group_summary(name, rows, study, reason=""):
-    """The distributions of the split and the pull over ``rows`` (its ok runs)."""
-    ok = [r for r in rows if r["status"] == "ok"]
-    return {"mitigation": name, "reason": reason, "runs": len(ok),
-            "split": distribution_summary([100 * r["split_change_rel"] for r in ok],
-                                          100 * study.split_threshold),
-            "pull": distribution_summary([r["pull_deg"] for r in ok],
-                                         study.pull_threshold_deg)}
-
-
-def mitigation_table(study, rows, baseline):
-    """The mitigations' baseline group (named ``baseline``), then each mitigation, over the
-    same jam states."""
-    groups = [(baseline, "")] + [(m.name, " ".join(m.reason.split()))
-                                 for m in study.mitigations]
-    return [group_summary(name, [r for r in rows if r["role"] == "mitigation"
-                                 and r["mitigation"] == name], study, reason)
-            for name, reason in groups]
+def _pct(share):
+    return "n/a" if share is None or not math.isfinite(share) else f"{100 * share:.0f}"
 
 
 def _fmt(x, unit="", digits=2):
@@ -138,19 +81,24 @@ def report(s, figures=""):
               "speed-up), the driver letting go after it. The mitigations over the first "
               f"{s['mitigation_samples']} of the same states, against the car as it is at "
               f"their μs (`{figures}monte_carlo.png`).", "",
-              "| case | runs | |split| median / p90 [%] | share > threshold | |pull| median "
-              "/ p90 [deg] | share > threshold |", "|---|---|---|---|---|---|"]
+              "| case | runs | abs. split median / p90 [%] | above threshold [% of states] | "
+              "abs. pull median / p90 [deg] | above threshold [% of states] | abs. split "
+              "against the baseline, state by state: median [%] / lower in [% of states] |",
+              "|---|---|---|---|---|---|---|"]
     for m in [s["jam_states"], *s["mitigations"]]:
-        sp, pu = m["split"], m["pull"]
+        sp, pu, pa = m["split"], m["pull"], m.get("paired", {})
         lines.append(f"| {m['mitigation']} | {m['runs']} | {_fmt(sp.get('median'))} / "
-                     f"{_fmt(sp.get('p90'))} | {_fmt(sp.get('share_above'), '', 2)} | "
+                     f"{_fmt(sp.get('p90'))} | {_pct(sp.get('share_above'))} | "
                      f"{_fmt(pu.get('median'))} / {_fmt(pu.get('p90'))} | "
-                     f"{_fmt(pu.get('share_above'), '', 2)} |")
+                     f"{_pct(pu.get('share_above'))} | "
+                     + (f"{pa['median']:+.2f} / {_pct(pa['share_lower'])}" if pa.get("n")
+                        else "-") + " |")
     lines += ["", "## Numerical noise", "",
               f"{s['noise']['pairs']} runs repeated at half the step; the largest change of "
               "each outcome (no boundary or ranking finer than this is drawn):", ""]
     for key, level in s["noise"]["levels"].items():
-        lines.append(f"- {key}: {level:.3g}")
+        scale, unit = NOISE_UNITS.get(key, (1.0, ""))
+        lines.append(f"- {key}: {scale * level:.3g} {unit}".rstrip())
     lines += ["", "## Files", "",
               f"`{figures}table.csv`: one row per run (every varied value, every outcome, the "
               "scene's hash; `pandas.read_csv`); `sweep/runs/<hash>/`: each run's history and "
@@ -248,48 +196,49 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
     return lines
 
 
+def _better(paired, noise):
+    """A paired change that is a real improvement: lower by more than the numerical noise in
+    the median, and in more states than chance gives (sign test, p < 0.05)."""
+    return paired.get("median", math.inf) < -noise and paired.get("sign_test_p", 1.0) < 0.05
+
+
 def _mitigation_answer(mitigations, noise):
-    """Mitigations ranked by the median |split| over the same states; two whose medians differ
-    by less than the numerical noise (``noise``, %) are not ranked against each other."""
-    base, ranked = mitigations[0], sorted(mitigations[1:],
-                                          key=lambda m: m["split"].get("median", math.inf))
-    text = "; ".join(f"{m['mitigation']}: median {m['split'].get('median', math.nan):.2f} %, "
-                     f"{100 * m['split'].get('share_above', math.nan):.0f} % of states above the "
-                     f"threshold, pull median {m['pull'].get('median', math.nan):.2f} deg"
-                     for m in ranked)
-    median = [m["split"].get("median", math.inf) for m in ranked]
-    base_median = base["split"].get("median", math.nan)
-    ties = [f"{a['mitigation']} and {b['mitigation']}" for a, b, x, y in
-            zip(ranked, ranked[1:], median, median[1:]) if y - x < noise]
-    verdict = (f"The best: {ranked[0]['mitigation']}" if not ties or ranked[0]["mitigation"]
-               not in ties[0] else f"Not ranked within the noise ({noise:.2f} %): "
-               + ", ".join(ties))
-    helps = [m["mitigation"] for m in ranked
-             if base_median - m["split"].get("median", math.inf) > noise]
-    worse = [m["mitigation"] for m in ranked
-             if m["split"].get("median", -math.inf) - base_median > noise]
-    return (f"Mitigations, by the median lasting split over the same {base['runs']} states "
-            f"({base['mitigation']}: {base_median:.2f} %, pull median "
+    """Mitigations judged state by state against the baseline: one helps when it lowers the
+    |split| beyond the numerical noise (``noise``, %) and in more states than chance
+    (``_better``); among those, one is the best only if it is also better than each other
+    helper, state by state."""
+    base = mitigations[0]
+    ranked = sorted(mitigations[1:], key=lambda m: m["paired"].get("median", math.inf))
+    text = "; ".join(
+        f"{m['mitigation']}: median {m['split'].get('median', math.nan):.2f} %, "
+        f"{100 * m['split'].get('share_above', math.nan):.0f} % of states above the threshold, "
+        f"pull median {m['pull'].get('median', math.nan):.2f} deg; state by state "
+        f"{m['paired'].get('median', math.nan):+.2f} % (lower in "
+        f"{100 * m['paired'].get('share_lower', math.nan):.0f} % of the states)"
+        for m in ranked)
+    helps = [m for m in ranked if _better(m["paired"], noise)]
+    worse = [m["mitigation"] for m in ranked if _better(
+        {"median": -m["paired"].get("median", -math.inf),
+         "sign_test_p": m["paired"].get("sign_test_p", 1.0)}, noise)]
+    best = [m for m in helps if all(_better(m["against"][o["mitigation"]], noise)
+                                    for o in helps if o is not m)]
+    if not helps:
+        verdict = "None lowers the split by more than the noise in more states than chance"
+    elif best:
+        verdict = f"The best: {best[0]['mitigation']}, also state by state against the others"
+    else:
+        a, b = helps[0], helps[1]
+        vs = a["against"][b["mitigation"]]
+        verdict = (f"{', '.join(m['mitigation'] for m in helps)} help, not separable from each "
+                   f"other state by state ({a['mitigation']} against {b['mitigation']}: "
+                   f"{vs['median']:+.2f} % median, lower in {100 * vs['share_lower']:.0f} % of "
+                   "the states)")
+    return (f"Mitigations over the same {base['runs']} states ({base['mitigation']}: split "
+            f"median {base['split'].get('median', math.nan):.2f} %, pull median "
             f"{base['pull'].get('median', math.nan):.2f} deg): {text}. {verdict}. Lower than "
-            f"the baseline by more than the noise: {', '.join(helps) or 'none'}; higher: "
-            f"{', '.join(worse) or 'none'}.")
-
-
-def line_tables(study, rows):
-    """Per line: {key, label, reason, points: [{value, mu_s, split_pct, pull_deg}]}."""
-    out = []
-    for i, line in enumerate(study.lines):
-        points = []
-        for j, mu_s in enumerate(study.line_mu_s):
-            for k, value in enumerate(line.values):
-                row = next((r for r in rows if r["name"] == f"line{i}_mu{j}_{k:02d}"), None)
-                ok = row is not None and row["status"] == "ok"
-                points.append({"value": value, "mu_s": mu_s,
-                               "split_pct": 100 * row["split_change_rel"] if ok else math.nan,
-                               "pull_deg": row["pull_deg"] if ok else math.nan})
-        out.append({"key": line.key, "label": line.label or line.key,
-                    "reason": " ".join(line.reason.split()), "points": points})
-    return out
+            f"the baseline: {', '.join(m['mitigation'] for m in helps) or 'none'}; higher: "
+            f"{', '.join(worse) or 'none'} (beyond the noise of {noise:.2f} % and a sign test "
+            "at 5 %).")
 
 
 def _line_answer(study, line, threshold, noise):

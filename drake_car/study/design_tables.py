@@ -1,0 +1,122 @@
+"""The design study's rows reduced to what the report says (pure): the numerical noise, the
+maps' grids, the Sobol indices, the distributions of the jam states and of each mitigation
+(also state by state against its baseline), and the one-factor lines."""
+
+import math
+
+import numpy as np
+
+from drake_car.study.design import OUTCOMES, factor
+from drake_car.study.sensitivity import factor_values, sobol_indices
+
+# The outcomes the Sobol analysis ranks the factors on (hands-on runs).
+SOBOL_OUTCOMES = ("split_change_rel", "rack_force_change_N")
+
+
+def noise_levels(table):
+    """Per outcome, the largest |x(dt) - x(dt/2)| over the half-step pairs (the noise below
+    which no boundary or ranking is drawn)."""
+    by_name = {row["name"]: row for row in table}
+    levels = {}
+    for row in table:
+        if row["role"] != "noise" or row["status"] != "ok":
+            continue
+        original = by_name.get(row["of"])
+        if original is None or original["status"] != "ok":
+            continue
+        for key in OUTCOMES:
+            a, b = original[key], row[key]
+            if math.isfinite(a) and math.isfinite(b):
+                levels[key] = max(levels.get(key, 0.0), abs(a - b))
+    return levels
+
+
+def map_grid(study, spec, rows, outcome="split_change_rel", scale=100.0):
+    """(xs, ys, values[j][i] × scale) of a map from its rows (in map_points' order)."""
+    fx, fy = factor(study, spec.x), factor(study, spec.y)
+    xs, ys = factor_values(fx, spec.points), factor_values(fy, spec.points)
+    values = np.full((len(ys), len(xs)), np.nan)
+    for k, row in enumerate(rows):
+        if row["status"] == "ok":
+            values[k // len(xs), k % len(xs)] = scale * row[outcome]
+    return xs, ys, values
+
+
+def sobol_tables(study, rows):
+    """{outcome: index rows} from the Sobol runs (in sample order); None if a run failed
+    (Saltelli's estimators need every point)."""
+    if any(r["status"] != "ok" for r in rows):
+        return None
+    return {key: sobol_indices(study, [r[key] for r in rows]) for key in SOBOL_OUTCOMES}
+
+
+def distribution_summary(values, threshold):
+    v = np.abs(np.asarray([x for x in values if math.isfinite(x)], dtype=float))
+    if v.size == 0:
+        return {"n": 0}
+    return {"n": int(v.size), "median": float(np.median(v)),
+            "p90": float(np.percentile(v, 90)), "max": float(np.max(v)),
+            "share_above": float(np.mean(v > threshold))}
+
+
+def group_summary(name, rows, study, reason=""):
+    """The distributions of the split and the pull over ``rows`` (its ok runs)."""
+    ok = [r for r in rows if r["status"] == "ok"]
+    return {"mitigation": name, "reason": reason, "runs": len(ok),
+            "split": distribution_summary([100 * r["split_change_rel"] for r in ok],
+                                          100 * study.split_threshold),
+            "pull": distribution_summary([r["pull_deg"] for r in ok],
+                                         study.pull_threshold_deg)}
+
+
+def mitigation_table(study, rows, baseline):
+    """The mitigations' baseline group (named ``baseline``), then each mitigation, over the
+    same jam states; each mitigation also state by state against the baseline (``paired``) and
+    against every other mitigation (``against``: name -> paired change of this one)."""
+    groups = [(baseline, "")] + [(m.name, " ".join(m.reason.split()))
+                                 for m in study.mitigations]
+    by_group = {name: {r["sample"]: r for r in rows if r["role"] == "mitigation"
+                       and r["mitigation"] == name and r["status"] == "ok"}
+                for name, _ in groups}
+    table = []
+    for name, reason in groups:
+        entry = group_summary(name, list(by_group[name].values()), study, reason)
+        if name != baseline:
+            entry["paired"] = paired_change(by_group[baseline], by_group[name])
+            entry["against"] = {other: paired_change(by_group[other], by_group[name])
+                                for other, _ in groups[1:] if other != name}
+        table.append(entry)
+    return table
+
+
+def paired_change(base, other):
+    """|split| of ``other`` minus that of ``base`` in the same states (sample -> row), in %:
+    the median, the share of states where it is lower, and the two-sided sign test's p (the
+    chance of so lopsided a count of lower and higher states if neither were better)."""
+    changes = [100 * (abs(other[k]["split_change_rel"]) - abs(base[k]["split_change_rel"]))
+               for k in sorted(base.keys() & other.keys())]
+    changes = [c for c in changes if math.isfinite(c)]
+    if not changes:
+        return {"n": 0}
+    lower, higher = sum(c < 0 for c in changes), sum(c > 0 for c in changes)
+    n, k = lower + higher, min(lower, higher)
+    p = min(1.0, 2 * sum(math.comb(n, i) for i in range(k + 1)) / 2 ** n) if n else 1.0
+    return {"n": len(changes), "median": float(np.median(changes)),
+            "share_lower": lower / len(changes), "sign_test_p": p}
+
+
+def line_tables(study, rows):
+    """Per line: {key, label, reason, points: [{value, mu_s, split_pct, pull_deg}]}."""
+    out = []
+    for i, line in enumerate(study.lines):
+        points = []
+        for j, mu_s in enumerate(study.line_mu_s):
+            for k, value in enumerate(line.values):
+                row = next((r for r in rows if r["name"] == f"line{i}_mu{j}_{k:02d}"), None)
+                ok = row is not None and row["status"] == "ok"
+                points.append({"value": value, "mu_s": mu_s,
+                               "split_pct": 100 * row["split_change_rel"] if ok else math.nan,
+                               "pull_deg": row["pull_deg"] if ok else math.nan})
+        out.append({"key": line.key, "label": line.label or line.key,
+                    "reason": " ".join(line.reason.split()), "points": points})
+    return out
