@@ -166,7 +166,7 @@ CASES = [
     ("design study: a mitigation that makes no valid car", design_study.main,
      lambda t: ["--study", _study(t, "spring_inclination_deg: 6.0}",
                                   "spring_inclination_deg: 60.0}") + ":study"],
-     "mitigation 'side-load compensating spring (inclined 6 deg)': "),
+     "mitigations[2] (side-load compensating spring (inclined 6 deg)): scene_text"),
     ("design study: a factor that is no scene key", design_study.main,
      lambda t: ["--study", _study(t, "key: car.front.guide_length_l_m",
                                   "key: car.front.guide_length") + ":study"],

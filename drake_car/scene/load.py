@@ -49,10 +49,11 @@ class SceneError(ValueError):
     path, the value and what is allowed."""
 
 
-def load_scene(path=None, *, child=None, scene_text=None, base=None) -> Scene:
+def load_scene(path=None, *, child=None, scene_text=None, base=None,
+               text_origin="--scene_text") -> Scene:
     """A scene from ``path`` (its top-level entry ``child``; a file with one entry needs none),
     with ``scene_text`` laid on top; checked. ``base``: a Scene to start from instead of the
-    defaults (without ``path``)."""
+    defaults (without ``path``). ``text_origin``: where ``scene_text`` came from, for errors."""
     if base is not None and path is not None:
         raise ValueError("load_scene: give a path or a base scene, not both")
     scene = Scene() if base is None else base
@@ -73,7 +74,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None) -> Scene:
         scene = _typed(where, schema=Scene, filename=str(path), child_name=child,
                        defaults=scene)
     if scene_text:
-        where = f"--scene_text {scene_text!r}"
+        where = f"{text_origin} {scene_text!r}"
         try:
             raw = yaml_load(data=scene_text)
         except Exception as e:

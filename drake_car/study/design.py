@@ -138,11 +138,9 @@ def _check_values(study):
                 with_value(study, {line.key: value, "friction.law.mu_s": mu_s})
     if study.mitigation_mu_s is not None:
         with_value(study, {"friction.law.mu_s": study.mitigation_mu_s})
-    for m in study.mitigations:
-        try:
-            load_scene(scene_text=m.scene_text, base=study.base)
-        except SceneError as e:
-            raise SceneError(f"mitigation {m.name!r}: {e}") from None
+    for i, m in enumerate(study.mitigations):
+        load_scene(scene_text=m.scene_text, base=study.base,
+                   text_origin=f"mitigations[{i}] ({m.name}): scene_text")
 
 
 def _check_rough_road(study, path):
