@@ -158,6 +158,14 @@ def test_mitigations_are_ranked_state_by_state_and_only_beyond_the_noise():
     assert "None lowers the split" in design_report._mitigation_answer(same, noise=0.09)
 
 
+def test_answers_say_when_no_pull_was_measured():
+    study = dataclasses.replace(STUDY, maps=[], mitigations=[])
+    jam = {"runs": 3, "split": {"n": 3, "median": 0.5, "p90": 1.1, "share_above": 1 / 3},
+           "pull": {"n": 0}}  # every run ended before the pull distance
+    (first,) = design_report.answers(study, [], None, jam, [], {})
+    assert "no pull measured" in first and "0.50 %" in first
+
+
 def test_the_study_s_runs():
     quick = design_runs.quick(STUDY)
     maps = design_runs.map_scenes(quick)

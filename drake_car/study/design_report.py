@@ -164,9 +164,12 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
             f"The study's car (the paper's geometry, μs = {study.base.friction.law.mu_s:g}) over "
             f"{base['runs']} jam states: the lasting split change is {base['split']['median']:.2f} "
             f"% (median; 90 % of states below {base['split']['p90']:.2f} %), above "
-            f"{threshold:g} % in {100 * base['split']['share_above']:.0f} % of them; the pull is "
-            f"{base['pull']['median']:.2f} deg (median), above {study.pull_threshold_deg:g} deg "
-            f"in {100 * base['pull']['share_above']:.0f} %.")
+            f"{threshold:g} % in {100 * base['split']['share_above']:.0f} % of them; "
+            + (f"the pull is {base['pull']['median']:.2f} deg (median), above "
+               f"{study.pull_threshold_deg:g} deg in {100 * base['pull']['share_above']:.0f} %."
+               if base["pull"].get("n") else
+               f"no pull measured (the runs ended before {study.pull_distance_m:g} m hands "
+               "off)."))
     for i, spec in enumerate(study.maps):
         rows = [r for r in table if r["name"].startswith(f"map{i}_")]
         lines.append(boundary_lines(study, spec, rows, "split_change_rel", 100.0, threshold,

@@ -27,7 +27,7 @@ def quick(study):
         sobol_base_samples=2, monte_carlo=dataclasses.replace(study.monte_carlo, samples=4,
                                                               start_m=1.0, length_m=2.0,
                                                               spacing_m=0.5),
-        mitigation_samples=2, noise_samples=2, pull_distance_m=5.0,
+        mitigation_samples=2, noise_samples=2, pull_distance_m=2.0,
         lines=[dataclasses.replace(line, values=line.values[:2]) for line in study.lines],
         line_mu_s=study.line_mu_s[:1])
 
