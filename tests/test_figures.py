@@ -198,3 +198,15 @@ def test_overview_diagram_draws_the_plant_once_and_the_loggers_as_one_box():
         svg = subprocess.run([DOT, "-Tsvg"], input=overview, capture_output=True, text=True,
                              check=True).stdout
         assert "<svg" in svg
+
+
+def test_the_report_says_which_claims_changed_against_the_previous_car_and_why():
+    from drake_car.study.previous_car import PREVIOUS_CAR, previous_car_section
+    now = [{"reproduced": PREVIOUS_CAR[i][0]} for i in range(1, 7)]
+    now[0]["reproduced"] = True  # claim 1: no before, yes now (this car)
+    now[2]["reproduced"] = True  # claim 3: a change no measurement explains
+    rows = [line for line in previous_car_section({"claims": now}) if line.startswith("| ")]
+    assert len(rows) == 1 + 6
+    assert "pro-lift" in rows[1] and rows[1].count("|") == 6
+    assert "not measured for this run's scenes" in rows[3]
+    assert rows[2].endswith("| - |")  # claim 2 unchanged

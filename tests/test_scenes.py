@@ -115,6 +115,16 @@ def test_every_scene_value_changes_the_run(label, base_run):
     assert changed, f"{label}: the run did not change"
 
 
+def test_the_friction_scheme_alone_changes_the_run():
+    """The scheme override above also needs a smaller step; here only the scheme differs."""
+    common = BASE_TEXT + "\nplant: {time_step: 5.0e-6}\nsimulator: {end_time_s: 0.02}"
+    fast = simulate(paper_scene("a_3", common + "\nfriction: {scheme: fast}"))
+    reference = simulate(paper_scene("a_3", common + "\nfriction: {scheme: reference}"))
+    assert fast.scene.friction.scheme == "fast" and reference.scene.friction.scheme == "reference"
+    assert any(not np.array_equal(fast.history[c], reference.history[c])
+               for c in fast.history if c != "phase")
+
+
 def test_saved_scene_reruns_bit_for_bit(tmp_path, base_run):
     path = tmp_path / "scene.yaml"
     path.write_text(dump_scene_file(base_run.scene))
