@@ -31,7 +31,6 @@ import contextlib
 import itertools
 import json
 import os
-import signal
 import sys
 import time
 import uuid
@@ -42,7 +41,7 @@ from pydrake.common.yaml import yaml_dump, yaml_load
 from drake_car import cli
 from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_scene_option
 from drake_car.scene.scene import MeshcatLive
-from drake_car.sim.outputs import OutputError, provenance
+from drake_car.sim.outputs import OutputError, provenance, terminate_as_exit
 from drake_car.study.sweep import cores, dask_client, missing, run_sweep
 from drake_car.study.sweep_folder import check_unlocked
 
@@ -78,7 +77,8 @@ def main(argv=None):
     print(f"{len(scenes)} scenes: {len(todo)} runs to do", file=sys.stderr)
     began = time.perf_counter()
     with contextlib.ExitStack() as stack:
-        stack.enter_context(_terminate_as_exit())
+        # SIGTERM: cancel what is left, close the cluster, rebuild the index, as on Ctrl-C
+        stack.enter_context(terminate_as_exit(once=True))
         client = None
         if todo:  # connected before anything is written
             try:
@@ -210,24 +210,6 @@ def _write_json(path, data):
     tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}")
     tmp.write_text(json.dumps(data, indent=1) + "\n")
     os.replace(tmp, path)
-
-
-@contextlib.contextmanager
-def _terminate_as_exit():
-    """SIGTERM raises SystemExit once (a second one during the cleanup is ignored): the sweep
-    cancels what is left, closes its cluster and rebuilds the index, as on Ctrl-C."""
-    def handler(signum, frame):
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        raise SystemExit(128 + signum)
-    try:
-        previous = signal.signal(signal.SIGTERM, handler)
-    except ValueError:  # not the main thread: leave the signal alone
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -99,9 +99,12 @@ def _lock(parent, name):
 
 
 @contextlib.contextmanager
-def _terminate_as_exit():
-    """SIGTERM raises SystemExit here, so ``finally`` blocks clean up as on Ctrl-C."""
+def terminate_as_exit(*, once=False):
+    """SIGTERM raises SystemExit here, so ``finally`` blocks clean up as on Ctrl-C; ``once``:
+    a second SIGTERM during that cleanup is ignored."""
     def handler(signum, frame):
+        if once:
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)
         raise SystemExit(128 + signum)
     try:
         previous = signal.signal(signal.SIGTERM, handler)
@@ -123,7 +126,7 @@ def output_folder(out_dir):
     parent, name = out_dir.parent, out_dir.name
     parent.mkdir(parents=True, exist_ok=True)
     _remove_stale(parent, name)
-    with _terminate_as_exit(), _lock(parent, name):
+    with terminate_as_exit(), _lock(parent, name):
         staging = parent / f".{name}.partial-{os.getpid()}-{uuid.uuid4().hex[:8]}"
         staging.mkdir()
         try:
