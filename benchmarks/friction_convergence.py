@@ -12,8 +12,10 @@ from pathlib import Path
 
 import numpy as np  # noqa: E402
 
-from drake_car.law.frd_friction import StrutFrictionParameters, shape_max_slope  # noqa: E402
-from drake_car.sim.outputs import output_folder, provenance, write_csv, write_json  # noqa: E402
+from drake_car.law.friction.frd import StrutFrictionParameters, shape_max_slope  # noqa: E402
+from drake_car.results.files import write_csv, write_json  # noqa: E402
+from drake_car.results.folder import output_folder  # noqa: E402
+from drake_car.results.provenance import provenance  # noqa: E402
 from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
 
 LAW = StrutFrictionParameters(mu_s=0.2, mu_d=0.15)

@@ -20,10 +20,12 @@ import sys
 from pathlib import Path
 
 from drake_car.data import resource
-from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.scene.load import load_scene
 from drake_car.scene.scene import Friction
-from drake_car.sim.outputs import output_folder, provenance, write_json
+from drake_car.results.files import write_json
+from drake_car.results.folder import output_folder
+from drake_car.results.provenance import provenance
 from drake_car.sim.simulate import simulate
 
 SETTLE = (resource("scenes/car.yaml"), "settle")

@@ -35,7 +35,9 @@ from drake_car.model.struts import declare_strut_friction
 from drake_car.scene.load import load_scene
 from drake_car.scene.scene import PrescribedRotation
 from drake_car.sim.monitor import Monitor
-from drake_car.sim.outputs import output_folder, provenance, write_json
+from drake_car.results.files import write_json
+from drake_car.results.folder import output_folder
+from drake_car.results.provenance import provenance
 from drake_car.sim.simulate import Runner
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.tyre import TyreSystem

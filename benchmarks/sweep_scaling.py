@@ -1,6 +1,6 @@
 """How a sweep scales with its workers: the same short runs (the paper's six lane changes cut to
 --end_s, in --runs distinct scenes: each repeat ends 1 ms later, so no two share a content hash)
-on a local cluster of 1 worker and of one worker per core, each through ``study.sweep.run_sweep``
+on a local cluster of 1 worker and of one worker per core, each through ``sweep.runner.run_sweep``
 into a fresh results folder. Prints runs per second and the efficiency, speed-up / workers
 (target >= 0.9).
 
@@ -31,9 +31,11 @@ from distributed import Client
 
 from drake_car.data import resource
 from drake_car.scene.load import dump_scene, load_scene
-from drake_car.sim.outputs import output_folder, provenance, write_json
-from drake_car.study.sweep import cores, local_cluster, run_sweep
-from drake_car.study.sweep_folder import read_status
+from drake_car.results.files import write_json
+from drake_car.results.folder import output_folder
+from drake_car.results.provenance import provenance
+from drake_car.sweep.runner import cores, local_cluster, run_sweep
+from drake_car.sweep.store import read_status
 
 CHILDREN = ("a_1", "a_2", "a_3", "b_1", "b_2", "b_3")
 

@@ -10,23 +10,24 @@ import argparse
 import sys
 from pathlib import Path
 
-from drake_car.law.checks import ParameterError
-from drake_car.law.tir import TirFileError
+from drake_car.law.checks import ParameterError, one_line
+from drake_car.law.tyre.tir import TirFileError
 from drake_car.model.kinematics import KinematicsError
 from drake_car.model.loading import ModelFileError
 from drake_car.scene.load import SceneError, load_scene, parse_scene_option
 from drake_car.sim.build import BuildError
-from drake_car.sim.outputs import OutputError, check_output_target
-from drake_car.study.paper import StudyError
+from drake_car.results.folder import OutputError, check_output_target
+from drake_car.study.paper.claims import StudyError
 from drake_car.systems.failure import SimulationFailure
 
 BAD_INPUT = (SceneError, ParameterError, TirFileError, ModelFileError, KinematicsError,
              OutputError, BuildError, StudyError, SimulationFailure)
 
 
-def parser(doc, *, out=True):
-    """An ArgumentParser with the script's docstring and (``out``) a required ``--out``."""
-    p = argparse.ArgumentParser(description=doc,
+def parser(doc, *, out=True, prog=None):
+    """An ArgumentParser with the script's docstring and (``out``) a required ``--out``;
+    ``prog``: the command's name in its usage line (default: the script's file name)."""
+    p = argparse.ArgumentParser(description=doc, prog=prog,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     if out:
         p.add_argument("--out", type=Path, required=True,
@@ -90,7 +91,7 @@ def run_main(main, argv=None):
     try:
         main(argv)
     except BAD_INPUT as e:
-        print(f"error: {' '.join(str(e).split())}", file=sys.stderr)
+        print(f"error: {one_line(e)}", file=sys.stderr)
         raise SystemExit(2) from None
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

@@ -19,12 +19,13 @@ import sys
 
 from drake_car import cli
 from drake_car.scene.load import load_scene, parse_scene_option
-from drake_car.sim.outputs import output_folder, write_run
+from drake_car.results.files import write_run
+from drake_car.results.folder import output_folder
 from drake_car.sim.simulate import simulate
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, prog="python -m drake_car.run")
     p.add_argument("--scene", required=True, help="scene file, optionally FILE:ENTRY")
     p.add_argument("--child", default=None, help="the entry of the scene file to run")
     p.add_argument("--scene_text", default="", help="YAML laid over the scene")

@@ -34,14 +34,15 @@ from pydrake.multibody.plant import MultibodyPlantConfig  # noqa: E402
 
 from drake_car import cli  # noqa: E402
 from drake_car.data import resource  # noqa: E402
-from drake_car.law.tyre_slip import SlipOptions  # noqa: E402
+from drake_car.law.tyre.slip import SlipOptions  # noqa: E402
 from drake_car.scene.load import dump_scene_file, load_scene  # noqa: E402
 from drake_car.scene.scene import LinearTyre, MagicFormula  # noqa: E402
 from drake_car.sim.build import check_stability  # noqa: E402
-from drake_car.sim.outputs import (  # noqa: E402
-    output_folder, provenance, write_csv, write_json)
+from drake_car.results.files import write_csv, write_json
+from drake_car.results.folder import output_folder
+from drake_car.results.provenance import provenance
 from drake_car.sim.simulate import simulate  # noqa: E402
-from drake_car.study.paper import study_columns  # noqa: E402
+from drake_car.study.paper.claims import study_columns  # noqa: E402
 from drake_car.systems.failure import SimulationFailure  # noqa: E402
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")

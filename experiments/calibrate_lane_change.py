@@ -11,8 +11,8 @@ import importlib.resources
 from pathlib import Path
 
 from drake_car import cli
-from drake_car.sim.outputs import provenance
-from drake_car.study.calibration import calibrate_lane_change, save_calibration
+from drake_car.results.provenance import provenance
+from drake_car.study.paper.calibration import calibrate_lane_change, save_calibration
 
 DEFAULT = Path(str(importlib.resources.files("drake_car.scene").joinpath(
     "lane_change_profile.json")))

@@ -26,7 +26,9 @@ from drake_car.data import resource
 from drake_car.model.kinematics_sweep import run_kinematics_sweep
 from drake_car.scene.load import load_scene
 from drake_car.scene.scene import MeshcatReplay
-from drake_car.sim.outputs import output_folder, provenance, write_csv, write_json, write_run
+from drake_car.results.files import write_csv, write_json, write_run
+from drake_car.results.folder import output_folder
+from drake_car.results.provenance import provenance
 from drake_car.sim.simulate import simulate
 
 CAR_SCENES = resource("scenes/car.yaml")

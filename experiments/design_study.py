@@ -22,12 +22,13 @@ import time
 from drake_car import cli
 from drake_car.data import resource
 from drake_car.scene.load import parse_scene_option
-from drake_car.sim.outputs import (
-    OutputError, check_output_target, output_folder, write_csv, write_json)
-from drake_car.study import design_analysis, design_report
-from drake_car.study import design_runs as runs_of
-from drake_car.study.design import load_study
-from drake_car.study.sweep import run_sweep
+from drake_car.results.files import write_csv, write_json
+from drake_car.results.folder import OutputError, check_output_target, output_folder
+from drake_car.study.design import analysis as design_analysis
+from drake_car.study.design import report as design_report
+from drake_car.study.design import runs as runs_of
+from drake_car.study.design.spec import load_study
+from drake_car.sweep.runner import run_sweep
 
 
 def main(argv=None):

@@ -23,7 +23,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from drake_car import cli  # noqa: E402
 from drake_car.scene.load import SceneError, load_scene  # noqa: E402
-from drake_car.sim.outputs import output_folder, provenance, write_csv, write_json  # noqa: E402
+from drake_car.results.files import write_csv, write_json  # noqa: E402
+from drake_car.results.folder import output_folder  # noqa: E402
+from drake_car.results.provenance import provenance  # noqa: E402
 from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
 
 

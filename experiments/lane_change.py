@@ -13,7 +13,7 @@ scenes/paper_study.yaml. Writes into DIR:
 
 Every run is repeated at half its time step (skip it with --no_verify): the report gives each
 deciding number at both steps, |x(dt) - x(dt/2)| as its numerical error, and both verdicts.
-All runs go as one sweep (``study.sweep.run_scenes``: in parallel, a progress bar over the
+All runs go as one sweep (``sweep.runner.run_scenes``: in parallel, a progress bar over the
 runs on a terminal). Options and scenes: --scene_text is laid over every run's scene (e.g.
 "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
 added to one run's scene (so its saved scene says so).
@@ -28,16 +28,17 @@ from drake_car import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene_file
 from drake_car.scene.scene import MeshcatReplay, NoVisualization, PrescribedRotation
-from drake_car.sim.outputs import (
-    output_folder, provenance, write_csv, write_diagram_overview_svg, write_diagram_svg,
-    write_json, write_run)
-from drake_car.study.figures import all_figures
-from drake_car.study.measures import claim_measures
-from drake_car.study.paper import (
+from drake_car.results.diagram import write_diagram_overview_svg, write_diagram_svg
+from drake_car.results.files import write_csv, write_json, write_run
+from drake_car.results.folder import output_folder
+from drake_car.results.provenance import provenance
+from drake_car.study.paper.figures import all_figures
+from drake_car.study.paper.measures import claim_measures
+from drake_car.study.paper.claims import (
     check_study_scenes, evaluate_claims, friction_of, study_runs,
     study_timeline)
-from drake_car.study.report import report, summary
-from drake_car.study.sweep import run_scenes
+from drake_car.study.paper.report import report, summary
+from drake_car.sweep.runner import run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
 HALF = " at dt/2"  # the half-step repetition of a run, among the sweep's names

@@ -20,7 +20,9 @@ from drake_car import cli  # noqa: E402
 from drake_car.data import resource  # noqa: E402
 from drake_car.scene.load import SceneError  # noqa: E402
 from drake_car.scene.manoeuvres import Settle  # noqa: E402
-from drake_car.sim.outputs import output_folder, provenance, write_json, write_run  # noqa: E402
+from drake_car.results.files import write_json, write_run  # noqa: E402
+from drake_car.results.folder import output_folder  # noqa: E402
+from drake_car.results.provenance import provenance  # noqa: E402
 from drake_car.sim.simulate import simulate  # noqa: E402
 
 

@@ -17,7 +17,9 @@ import numpy as np  # noqa: E402
 
 from drake_car import cli  # noqa: E402
 from drake_car.model.kinematics_sweep import run_kinematics_sweep  # noqa: E402
-from drake_car.sim.outputs import output_folder, provenance, write_csv, write_json  # noqa: E402
+from drake_car.results.files import write_csv, write_json  # noqa: E402
+from drake_car.results.folder import output_folder  # noqa: E402
+from drake_car.results.provenance import provenance  # noqa: E402
 
 
 def main(argv=None):

@@ -5,7 +5,7 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.interpolate import Akima1DInterpolator
 
-from drake_car.law.akima import akima_slopes, hermite_eval
+from drake_car.law.numerics.akima import akima_slopes, hermite_eval
 
 
 @pytest.mark.parametrize("seed", range(5))

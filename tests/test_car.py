@@ -9,7 +9,7 @@ from pydrake.systems.analysis import Simulator
 
 from conftest import car_scene
 from drake_car.law.checks import ParameterError
-from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.model.car import model_source
 from drake_car.model.geometry import SIDES
 from drake_car.model.kinematics import KinematicsError, SuspensionKinematics

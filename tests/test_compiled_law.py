@@ -7,16 +7,16 @@ import pytest
 from numpy.testing import assert_allclose
 
 from drake_car.data import resource
-from drake_car.law import frd_compiled as fc
-from drake_car.law import tyre_compiled as tc
-from drake_car.law.frd_friction import (
+from drake_car.law.friction import compiled as fc
+from drake_car.law.tyre import compiled as tc
+from drake_car.law.friction.frd import (
     KINETIC, STATIC, FrictionPairLaw, StrutFrictionParameters, advance_creep, beta,
     friction_coefficient, friction_force, friction_moment, mu1, mu_kinetic, normal_force,
     shape_max_slope)
-from drake_car.law.magic_formula import MagicFormulaTyre, linear_tyre, magic_formula
-from drake_car.law.road import CosineBump, Flat, SampledProfile
-from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
-from drake_car.law.tyre_slip import (
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre, linear_tyre, magic_formula
+from drake_car.law.road.profiles import CosineBump, Flat, SampledProfile
+from drake_car.law.tyre.contact import RadialTyre, contact_point, radial_force
+from drake_car.law.tyre.slip import (
     SlipOptions, contact_kinematics, low_speed_weight, relax, steady_slips, transient_slips)
 
 RTOL = 1e-12
@@ -213,7 +213,7 @@ def test_compiled_phases_are_the_laws():
 
 
 def test_normal_force_forms():
-    from drake_car.law.frd_friction import NORMAL_FORCE_FORMS
+    from drake_car.law.friction.frd import NORMAL_FORCE_FORMS
     axis = np.array([0.1, -0.2, 0.97])
     axis /= np.linalg.norm(axis)
     for form in NORMAL_FORCE_FORMS:

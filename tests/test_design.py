@@ -14,13 +14,14 @@ import numpy as np
 import pytest
 
 from drake_car.data import resource
-from drake_car.law.road import CosineBump
+from drake_car.law.road.profiles import CosineBump
 from drake_car.scene.load import SceneError, scene_hash
-from drake_car.study import design_report, design_runs
-from drake_car.study import design_tables as tables
-from drake_car.study.design import (
+from drake_car.study.design import report as design_report
+from drake_car.study.design import runs as design_runs
+from drake_car.study.design import tables
+from drake_car.study.design.spec import (
     Mitigation, load_study, outcomes, paper_value, rough_road, with_value)
-from drake_car.study.sensitivity import sobol_indices, sobol_points
+from drake_car.study.design.sensitivity import sobol_indices, sobol_points
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = load_study(resource("scenes/studies/design.yaml"), "study")
@@ -72,7 +73,7 @@ def test_a_road_flat_under_the_resting_car_gives_the_flat_road_s_equilibrium_bit
     """The equilibrium's cache serves every rough road that starts ahead of the car: the
     settling scene takes the flat road, and settling on the rough road itself gives the same
     positions to the last bit (the tyres touch only z = 0 there)."""
-    from drake_car.law.road import Flat
+    from drake_car.law.road.profiles import Flat
     from drake_car.scene.load import load_scene
     from drake_car.sim.equilibrium import equilibrium_scene
     from drake_car.sim.simulate import simulate

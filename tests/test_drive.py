@@ -8,13 +8,13 @@ from numpy.testing import assert_allclose
 
 from conftest import car_scene, paper_scene
 from drake_car.data import resource
-from drake_car.law.magic_formula import MagicFormulaTyre, magic_formula
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre, magic_formula
 from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
 from drake_car.model.drive import rolling_radius
 from drake_car.model.geometry import design_axle_loads_N
 from drake_car.scene.manoeuvres import Timeline, speed_profile
 from drake_car.sim.simulate import simulate
-from drake_car.study.calibration import lane_change_metrics
+from drake_car.study.paper.calibration import lane_change_metrics
 
 TIMELINE = Timeline()
 TARGET_MPS = 60 / 3.6

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drake_car.sim.outputs import read_csv
+from drake_car.results.files import read_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 # The paper's timeline shortened 20 times (every phase), laid over every run's scene.

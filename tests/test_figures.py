@@ -13,12 +13,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from drake_car.sim.outputs import diagram_overview_dot
-from drake_car.study.figures import FIGURES, all_figures, legend_overlaps, place_windows
-from drake_car.study.measures import claim_measures
-from drake_car.study.paper import evaluate_claims, place_values
-from drake_car.study.measures import error_estimates, holds
-from drake_car.study.report import CLAIM_FIGURES, _flip, quantity, report, summary
+from drake_car.results.diagram import diagram_overview_dot
+from drake_car.study.paper.figures import FIGURES, all_figures, legend_overlaps, place_windows
+from drake_car.study.paper.measures import claim_measures
+from drake_car.study.paper.claims import evaluate_claims, place_values
+from drake_car.study.paper.measures import error_estimates, holds
+from drake_car.study.paper.report import CLAIM_FIGURES, _flip, quantity, report, summary
 from test_study import TIMELINE, study_of
 
 VARIANTS = ({}, {"jammed_returns": True}, {"stays_put": True}, {"asymmetric_end": 0.002},
@@ -201,7 +201,7 @@ def test_overview_diagram_draws_the_plant_once_and_the_loggers_as_one_box():
 
 
 def test_the_report_says_which_claims_changed_against_the_previous_car_and_why():
-    from drake_car.study.previous_car import PREVIOUS_CAR, previous_car_section
+    from drake_car.study.paper.previous_car import PREVIOUS_CAR, previous_car_section
     now = [{"reproduced": PREVIOUS_CAR[i][0]} for i in range(1, 7)]
     now[0]["reproduced"] = True  # claim 1: no before, yes now (this car)
     now[2]["reproduced"] = True  # claim 3: a change no measurement explains

@@ -7,7 +7,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from drake_car.law.checks import ParameterError
-from drake_car.law.frd_friction import (
+from drake_car.law.friction.frd import (
     KINETIC, STATIC, FrictionPairLaw, StrutFrictionParameters,
     advance_creep, beta, friction_coefficient, friction_moment, mu1, mu_kinetic, normal_force)
 

@@ -14,13 +14,13 @@ import numpy as np
 import pytest
 
 from drake_car.data import resource
-from drake_car.law.magic_formula import MagicFormulaTyre
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre
 from drake_car.model.geometry import whole_car_cog_to_front_m
 from drake_car.model.loading import tir_path
 from drake_car.scene.load import load_scene
 from drake_car.sim.simulate import simulate
-from drake_car.study import crosscheck
-from drake_car.study.handling import (
+from drake_car.study.handling import crosscheck
+from drake_car.study.handling.measures import (
     DEG_PER_G,
     kinematic_steer_rad,
     single_track,
@@ -29,7 +29,7 @@ from drake_car.study.handling import (
     step_response,
     step_steer,
 )
-from drake_car.study.understeer import NAMED, understeer_budget
+from drake_car.study.handling.understeer import NAMED, understeer_budget
 
 ROOT = Path(__file__).resolve().parents[1]
 TYRE = MagicFormulaTyre.from_file(tir_path("tyres/pacejka2006_205_60R15.tir"))

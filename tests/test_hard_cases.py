@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import assert_finite, car_scene, paper_scene
-from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.model.geometry import SIDES, design_axle_loads_N
 from drake_car.model.parameters import CarParameters
 from drake_car.scene.load import dump_scene
@@ -17,7 +17,7 @@ from drake_car.scene.scene import VerticalOnly
 from drake_car.sim.build import BuildError
 from drake_car.sim.monitor import DivergenceError
 from drake_car.sim.simulate import simulate
-from drake_car.study.calibration import lane_change_metrics
+from drake_car.study.paper.calibration import lane_change_metrics
 from drake_car.systems.failure import SimulationFailure
 
 DMAX = StrutFrictionParameters().dmax_translation_m

@@ -1,14 +1,19 @@
-"""The package's layout as rooms (README, "Where things are"): each room imports only itself and the rooms
-before it (data ← law ← systems ← model ← scene ← sim ← study ← the commands at the top of the
-package); no import cycles; no module over 400 lines; nothing in the package imports a script."""
+"""The package's layout as rooms (README, "Where things are"): each room imports only itself and
+the rooms before it (data ← law ← systems ← model ← scene ← sim ← results ← sweep ← study ← the
+commands at the top of the package and each room's ``__main__``); rooms with more than one
+concept hold them as sub-rooms (folders), which the README names; no import cycles; no module
+over 400 lines, in the package, ``experiments/`` and ``benchmarks/``; no two modules of one
+name where the name says nothing of its room; nothing in the package imports a script."""
 
 import ast
 from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "drake_car"
-ROOMS = ("data", "law", "systems", "model", "scene", "sim", "study", "commands")
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "drake_car"
+ROOMS = ("data", "law", "systems", "model", "scene", "sim", "results", "sweep", "study",
+         "commands")
 MAX_LINES = 400
 
 
@@ -26,8 +31,10 @@ def modules():
 
 
 def room(module):
+    """A module's room: its first folder under the package; a command (a top-level module or a
+    room's ``__main__``) is of the commands room, at the top."""
     parts = module.split(".")
-    if len(parts) == 1:
+    if len(parts) == 1 or parts[-1] == "__main__":
         return "commands"
     return parts[1] if parts[1] in ROOMS else "commands"
 
@@ -85,10 +92,41 @@ def test_no_import_cycles():
         visit(module, [])
 
 
-@pytest.mark.parametrize("module", sorted(GRAPH))
-def test_modules_are_small(module):
-    lines = len(modules()[module].read_text().splitlines())
-    assert lines <= MAX_LINES, f"{module}: {lines} lines"
+SCRIPTS = sorted(p for folder in ("experiments", "benchmarks") for p in (ROOT / folder).glob("*.py"))
+# Sub-rooms: each room's folders, as the README's table names them.
+SUB_ROOMS = {
+    "law": {"friction", "tyre", "road", "numerics"},
+    "study": {"paper", "design", "handling"},
+}
+# Names that say a module's role inside its sub-room (each sub-room may have its own).
+ROLE_NAMES = {"__init__", "__main__", "compiled", "figures", "report", "measures", "tables",
+              "analysis"}
+
+
+@pytest.mark.parametrize("path", [*modules().values(), *SCRIPTS],
+                         ids=lambda p: str(p.relative_to(ROOT)))
+def test_modules_and_scripts_are_small(path):
+    lines = len(path.read_text().splitlines())
+    assert lines <= MAX_LINES, f"{path.relative_to(ROOT)}: {lines} lines"
+
+
+def test_sub_rooms_are_the_ones_named():
+    for room_name, expected in SUB_ROOMS.items():
+        found = {p.name for p in (PACKAGE / room_name).iterdir()
+                 if p.is_dir() and (p / "__init__.py").is_file()}
+        assert found == expected, (room_name, found)
+        loose = sorted(p.name for p in (PACKAGE / room_name).glob("*.py")
+                       if p.name != "__init__.py")
+        assert len(loose) <= 2, f"{room_name}/ holds loose modules {loose}: put them in a sub-room"
+
+
+def test_no_two_modules_share_a_name_that_says_nothing_of_its_room():
+    names = {}
+    for module, path in modules().items():
+        if path.name != "__init__.py":  # a module, not a room
+            names.setdefault(module.rsplit(".", 1)[-1], []).append(module)
+    shared = {n: ms for n, ms in names.items() if len(ms) > 1 and n not in ROLE_NAMES}
+    assert not shared, shared
 
 
 def test_the_package_imports_no_script():

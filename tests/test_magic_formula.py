@@ -7,8 +7,8 @@ import pytest
 from numpy.testing import assert_allclose
 
 from drake_car.data import resource
-from drake_car.law.magic_formula import REQUIRED, MagicFormulaTyre, linear_tyre, magic_formula
-from drake_car.law.tir import TirFileError, format_tir, parse_tir, read_tir
+from drake_car.law.tyre.magic_formula import REQUIRED, MagicFormulaTyre, linear_tyre, magic_formula
+from drake_car.law.tyre.tir import TirFileError, format_tir, parse_tir, read_tir
 
 DEFAULT_TIR = str(resource("urdf/tyres/pacejka2006_205_60R15.tir"))
 TYRE = MagicFormulaTyre.from_file(DEFAULT_TIR)

@@ -11,7 +11,7 @@ from drake_car.scene.load import (
     SceneError, dump_scene, dump_scene_file, load_scene, scene_hash, shipped_scenes)
 from drake_car.scene.scene import MeshcatReplay, PrescribedRotation
 from drake_car.sim.build import build_diagram
-from drake_car.sim.outputs import read_csv, write_csv
+from drake_car.results.files import read_csv, write_csv
 from drake_car.sim.simulate import simulate
 from drake_car.systems.sap_pacer import PACER_MASS_KG
 from drake_car.systems.strut_friction import StrutFriction

@@ -4,7 +4,7 @@ shortened study end to end."""
 import numpy as np
 
 from drake_car.scene.manoeuvres import Timeline
-from drake_car.study.paper import (
+from drake_car.study.paper.claims import (
     CASES, RUN_COLUMNS, FrictionSet, StudyRun, count_reaching, evaluate_claims)
 
 TIMELINE = Timeline()

@@ -1,4 +1,4 @@
-"""Sweeps on Dask (``study.sweep``, ``python -m drake_car.sweep``): a worker killed mid-sweep
+"""Sweeps on Dask (``sweep.runner``, ``python -m drake_car.sweep``): a worker killed mid-sweep
 loses nothing and every result equals the serial run's bit for bit; a restarted sweep redoes
 only the missing runs and those the infrastructure lost, starting no cluster when there are
 none; a failing run is recorded with its kind and the others complete; the local cluster
@@ -14,6 +14,8 @@ import pickle
 import shutil
 import signal
 import threading
+import subprocess
+import sys
 import time
 import types
 
@@ -24,13 +26,13 @@ from distributed import Client
 
 from conftest import PAPER_SCENES, paper_scene
 from drake_car import cli
-from drake_car import sweep as sweep_command
+from drake_car.sweep import __main__ as sweep_command
 from drake_car.scene.load import scene_hash
-from drake_car.sim.outputs import write_csv
+from drake_car.results.files import write_csv
 from drake_car.sim.simulate import simulate
-from drake_car.study import sweep as study_sweep
-from drake_car.study.sweep import Job, _record, local_cluster, missing, run_scenes, run_sweep
-from drake_car.study.sweep_folder import commit_run, read_status
+from drake_car.sweep import runner as study_sweep
+from drake_car.sweep.runner import Job, _record, local_cluster, missing, run_scenes, run_sweep
+from drake_car.sweep.store import commit_run, read_status
 from drake_car.systems.failure import SimulationFailure
 
 SHORT = "simulator: {end_time_s: 0.3, equilibrium_settle_s: 1.0}"
@@ -265,12 +267,30 @@ def _foreign(tmp_path):
     return tmp_path / "home"
 
 
+_HOLDERS = []  # processes holding a lock for a test, released after it
+
+
+@pytest.fixture(autouse=True)
+def _release_held_locks():
+    yield
+    while _HOLDERS:
+        holder = _HOLDERS.pop()
+        holder.stdin.close()
+        holder.wait(timeout=30)
+
+
 def _locked(tmp_path):
-    """A sweep's folder that a live process (this test's parent) is writing to."""
-    (tmp_path / "busy").mkdir()
-    (tmp_path / "busy" / "sweep.json").write_text('{"invocations": []}')
-    (tmp_path / "busy" / ".sweep.lock").write_text(str(os.getppid()))
-    return tmp_path / "busy"
+    """A sweep's folder that another live process holds the (kernel) lock of."""
+    busy = tmp_path / "busy"
+    busy.mkdir()
+    (busy / "sweep.json").write_text('{"invocations": []}')
+    holder = subprocess.Popen(
+        [sys.executable, "-c", "import sys\nfrom drake_car.results.lock import exclusive\n"
+         "with exclusive(sys.argv[1]):\n    print('held', flush=True)\n    sys.stdin.read()",
+         str(busy / ".sweep.lock")], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    _HOLDERS.append(holder)
+    assert holder.stdout.readline().strip() == "held"
+    return busy
 
 
 A_3 = ["--scenes", f"{PAPER_SCENES}:a_3"]

@@ -9,8 +9,8 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.multibody.plant import MultibodyPlant
 
-from drake_car.law.road import Flat
-from drake_car.law.tyre_contact import RadialTyre, contact_point, radial_force
+from drake_car.law.road.profiles import Flat
+from drake_car.law.tyre.contact import RadialTyre, contact_point, radial_force
 from drake_car.model.car import add_car
 from drake_car.systems.tyre import WHEELS, TyreSystem
 
@@ -92,7 +92,7 @@ def test_tyre_system_alone():
 def test_state_kinematics_equal_the_plant_s():
     """The wheels' motion from the plant's state (compiled kinematics) gives the same forces as
     from the plant's pose and velocity lists, at a state with every coordinate moved."""
-    from drake_car.law.magic_formula import MagicFormulaTyre
+    from drake_car.law.tyre.magic_formula import MagicFormulaTyre
     from drake_car.data import resource
     magic = MagicFormulaTyre.from_file(str(resource("urdf/tyres/pacejka2006_205_60R15.tir")))
     plant = MultibodyPlant(time_step=1e-3)
@@ -127,7 +127,7 @@ def test_state_kinematics_equal_the_plant_s():
 
 def test_road_profiles():
     from drake_car.law.checks import ParameterError
-    from drake_car.law.road import CosineBump, SampledProfile
+    from drake_car.law.road.profiles import CosineBump, SampledProfile
     bump = CosineBump(start_x_m=10.0, length_m=0.5, height_m=0.04).check()
     assert bump(9.9, 0.0) == 0.0 and bump(10.5, 1.0) == 0.0
     assert bump(10.25, -0.7) == pytest.approx(0.04)
@@ -158,7 +158,7 @@ def test_road_profiles():
 
 def test_tyre_load_on_a_bump():
     """A wheel 2 cm above the flat road touches a 4 cm bump by 2 cm: Fz = k·0.02."""
-    from drake_car.law.road import CosineBump
+    from drake_car.law.road.profiles import CosineBump
     plant, car, tyres, context = tyres_on_the_car(
         CosineBump(start_x_m=-0.25, length_m=0.5, height_m=0.04))
     poses = [RigidTransform() for _ in range(plant.num_bodies())]

@@ -22,6 +22,11 @@ class ParameterError(ValueError):
                               self.requirement)
 
 
+def one_line(error):
+    """An exception's message as one line (its whitespace folded): what a command prints."""
+    return " ".join(str(error).split())
+
+
 def is_number(value):
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 

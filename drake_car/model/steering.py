@@ -6,7 +6,7 @@ instance, so the car's generalized positions are those of every other scene."""
 import numpy as np
 from pydrake.multibody.tree import RevoluteJoint, SpatialInertia, UnitInertia
 
-from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.model.car import RACK_SERVO_GAINS
 from drake_car.systems.friction_pairs import Strut, declare_pairs
 from drake_car.systems.gain_schedule import MIN_GAIN

@@ -1,10 +1,10 @@
 """The car's strut friction: both front struts' cylindrical pairs with the FRD law, wired to the
 car's joints and strut geometry (the generic system is ``systems.strut_friction``)."""
 
-from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.law.friction.frd import StrutFrictionParameters, explicit_time_step_limit_s
 from drake_car.model.geometry import SIDES, design_axle_loads_N
 from drake_car.systems.friction_pairs import Strut, declare_pairs
-from drake_car.systems.strut_friction import StrutFriction, explicit_time_step_limit_s
+from drake_car.systems.strut_friction import StrutFriction
 
 # [EST] the strut's normal force at rest as a share of the front corner's design load: 1.39 kN
 # of 3.8 kN (0.37) measured on the default car (b = 80 mm); 0.4 bounds it.
@@ -20,7 +20,7 @@ def strut_effective_mass_kg(params):
 
 def reference_time_step_limit_s(params, law: StrutFrictionParameters):
     """The explicit (reference) scheme's largest stable step on this car
-    (``systems.strut_friction.explicit_time_step_limit_s`` with the strut's effective mass and
+    (the law's ``law.friction.frd.explicit_time_step_limit_s`` with the strut's effective mass and
     its normal force at rest, ``NORMAL_FORCE_AT_REST_SHARE`` of the corner load). Measured on
     the default car with μs = 0.4: 5 µs converges, 10 µs does not (limit 6.5 µs)."""
     normal = NORMAL_FORCE_AT_REST_SHARE * design_axle_loads_N(params)["front"] / 2

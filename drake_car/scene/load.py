@@ -18,7 +18,7 @@ from pydrake.common.yaml import yaml_dump_typed, yaml_load, yaml_load_typed
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.data import resource
-from drake_car.law.checks import ParameterError, checked
+from drake_car.law.checks import ParameterError, checked, one_line
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene, default_plant_config
 
@@ -78,7 +78,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
         try:
             raw = yaml_load(data=scene_text)
         except Exception as e:
-            raise SceneError(f"{where}: not YAML: {_one_line(e)}") from None
+            raise SceneError(f"{where}: not YAML: {one_line(e)}") from None
         if raw is None:
             raw = {}
         _check_raw(raw, Scene, where, "")
@@ -246,7 +246,7 @@ def _read_entries(path: Path):
     try:
         data = yaml_load(filename=str(path))
     except Exception as e:
-        raise SceneError(f"{path}: not a YAML scene file: {_one_line(e)}") from None
+        raise SceneError(f"{path}: not a YAML scene file: {one_line(e)}") from None
     if not isinstance(data, dict) or not data:
         raise SceneError(f"{path}: must map scene names to scenes")
     return [name for name in data if not str(name).startswith("_")]
@@ -256,11 +256,7 @@ def _typed(where, **kwargs):
     try:
         return yaml_load_typed(**kwargs)
     except Exception as e:  # what the raw check did not catch
-        raise SceneError(f"{where}: {_one_line(e)}") from None
-
-
-def _one_line(e):
-    return " ".join(str(e).split())
+        raise SceneError(f"{where}: {one_line(e)}") from None
 
 
 def _fields(schema):

@@ -16,7 +16,7 @@ import typing
 import numpy as np
 from pydrake.trajectories import PiecewisePolynomial
 
-from drake_car.law.akima import akima_slopes
+from drake_car.law.numerics.akima import akima_slopes
 from drake_car.law.checks import ParameterError, checked, nonnegative, one_of, positive
 
 PHASES = ("I", "II", "III", "IV")
@@ -98,6 +98,30 @@ def _hold_at_zero(end_s):
     return PiecewisePolynomial.FirstOrderHold([0.0, max(end_s, 1e-3)], np.zeros((1, 2)))
 
 
+class DrivingManoeuvre:
+    """What every driving manoeuvre shares (not loadable itself): it drives, its ``timeline``
+    (the paper's phases I-IV) gives its end and phases, ``check()`` checks the timeline and then
+    the manoeuvre's own fields (``_check_own``). A manoeuvre gives ``rack()``, the rack's
+    displacement over the run (m, a Drake trajectory)."""
+
+    drives = True
+
+    def check(self):
+        checked(self.timeline, "timeline")
+        self._check_own()
+        return self
+
+    def _check_own(self):
+        pass
+
+    @property
+    def end_s(self):
+        return self.timeline.duration_s
+
+    def phase(self, t):
+        return self.timeline.phase(t)
+
+
 @dataclasses.dataclass
 class Settle:
     """The car at rest on its tyres, no drive, the rack held straight (the paper's first 0.8 s,
@@ -127,23 +151,10 @@ class Settle:
 
 
 @dataclasses.dataclass
-class Straight:
+class Straight(DrivingManoeuvre):
     """Speed up and drive straight on (phase III without steering)."""
 
     timeline: Timeline = dataclasses.field(default_factory=Timeline)
-
-    def check(self):
-        checked(self.timeline, "timeline")
-        return self
-
-    drives = True
-
-    @property
-    def end_s(self):
-        return self.timeline.duration_s
-
-    def phase(self, t):
-        return self.timeline.phase(t)
 
     def rack(self):
         return _hold_at_zero(self.end_s)
@@ -159,7 +170,7 @@ def calibrated_lane_change():
 
 
 @dataclasses.dataclass
-class LaneChange:
+class LaneChange(DrivingManoeuvre):
     """The paper's lane change (Fig. 13): the rack follows an Akima spline through one sine
     period of ``amplitude_m`` during phase III; case "a" starts with a left turn, "b" is its
     mirror image. ``second_lobe`` scales the return turn. The defaults are calibrated so that
@@ -172,25 +183,14 @@ class LaneChange:
     second_lobe: float = dataclasses.field(
         default_factory=lambda: calibrated_lane_change()[1])
 
-    def check(self):
+    def _check_own(self):
         one_of(self, "case", ("a", "b"))
-        checked(self.timeline, "timeline")
         positive(self, "amplitude_m", "second_lobe")
         if self.amplitude_m > 0.1:
             raise ParameterError("amplitude_m", self.amplitude_m,
                                  "must be <= 0.1 m (a rack's whole stroke is about ±0.07 m)")
         if not 0.5 <= self.second_lobe <= 2.0:
             raise ParameterError("second_lobe", self.second_lobe, "must lie in [0.5, 2]")
-        return self
-
-    drives = True
-
-    @property
-    def end_s(self):
-        return self.timeline.duration_s
-
-    def phase(self, t):
-        return self.timeline.phase(t)
 
     def knots(self):
         shape = np.array(LANE_CHANGE_KNOT_SHAPE)
@@ -225,7 +225,7 @@ class LaneChange:
 
 
 @dataclasses.dataclass
-class RampSteer:
+class RampSteer(DrivingManoeuvre):
     """Steady-state cornering by the continuous method of ISO 4138 (constant speed, slowly
     increasing steer): after phases I and II the rack ramps from 0 to ``rack_m`` over phase III
     and is held through phase IV."""
@@ -234,21 +234,8 @@ class RampSteer:
         default_factory=lambda: Timeline(straight_s=1.0, steer_s=20.0, calm_s=1.0))
     rack_m: float = 0.01
 
-    def check(self):
-        checked(self.timeline, "timeline")
-        if not (abs(self.rack_m) <= 0.07 and self.rack_m != 0):
-            raise ParameterError("rack_m", self.rack_m,
-                                 "must be non-zero and within the rack's stroke of ±0.07 m")
-        return self
-
-    drives = True
-
-    @property
-    def end_s(self):
-        return self.timeline.duration_s
-
-    def phase(self, t):
-        return self.timeline.phase(t)
+    def _check_own(self):
+        _check_rack_stroke(self.rack_m)
 
     def rack(self):
         _, t3, t4, end = self.timeline.boundaries()
@@ -257,7 +244,7 @@ class RampSteer:
 
 
 @dataclasses.dataclass
-class StepSteer:
+class StepSteer(DrivingManoeuvre):
     """Step steer (ISO 7401): at the start of phase III the rack moves to ``rack_m`` in
     ``rise_s`` (a ramp, the standard's fast "step") and is held through phases III and IV."""
 
@@ -266,26 +253,13 @@ class StepSteer:
     rack_m: float = 0.004
     rise_s: float = 0.15
 
-    def check(self):
-        checked(self.timeline, "timeline")
+    def _check_own(self):
         positive(self, "rise_s")
-        if not (abs(self.rack_m) <= 0.07 and self.rack_m != 0):
-            raise ParameterError("rack_m", self.rack_m,
-                                 "must be non-zero and within the rack's stroke of ±0.07 m")
+        _check_rack_stroke(self.rack_m)
         if self.rise_s >= self.timeline.steer_s:
             raise ParameterError("rise_s", self.rise_s,
                                  f"must be shorter than timeline.steer_s = "
                                  f"{self.timeline.steer_s}")
-        return self
-
-    drives = True
-
-    @property
-    def end_s(self):
-        return self.timeline.duration_s
-
-    def phase(self, t):
-        return self.timeline.phase(t)
 
     def rack(self):
         _, t3, _, end = self.timeline.boundaries()
@@ -296,6 +270,12 @@ class StepSteer:
 
 
 Manoeuvre = typing.Union[LaneChange, Straight, Settle, RampSteer, StepSteer]
+
+
+def _check_rack_stroke(rack_m):
+    if not (abs(rack_m) <= 0.07 and rack_m != 0):
+        raise ParameterError("rack_m", rack_m,
+                             "must be non-zero and within the rack's stroke of ±0.07 m")
 
 
 def speed_trajectory(timeline: Timeline, sample_s=0.005):

@@ -6,9 +6,9 @@ Sections, each a loadable dataclass with a ``check()`` that names a bad key:
 - ``car``: the car's parameters (``model.parameters.CarParameters``: every number with its
   source), from which the model file is generated;
 - ``friction``: dry friction in the front struts (None: none; the lubricated strut is the car's
-  ``front.strut_damping_Nspm``), with the law's parameters (``law.frd_friction``);
+  ``front.strut_damping_Nspm``), with the law's parameters (``law.friction.frd``);
 - ``tyres``: ``!MagicFormula`` (default), ``!LinearTyre`` or ``!VerticalOnly``;
-- ``road``: ``!Flat`` (default), ``!CosineBump`` or ``!SampledProfile`` (``law.road``);
+- ``road``: ``!Flat`` (default), ``!CosineBump`` or ``!SampledProfile`` (``law.road.profiles``);
 - ``manoeuvre``: ``!LaneChange`` (default), ``!Straight``, ``!Settle``, ``!RampSteer``,
   ``!StepSteer`` (``scene.manoeuvres``);
 - ``drive``: ``!OpenDifferential`` (default: one torque split equally) or
@@ -26,9 +26,9 @@ import typing
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.law.checks import ParameterError, checked, nonnegative, one_of, positive
-from drake_car.law.frd_friction import StrutFrictionParameters
-from drake_car.law.road import Flat, Road
-from drake_car.law.tyre_slip import SlipOptions
+from drake_car.law.friction.frd import StrutFrictionParameters
+from drake_car.law.road.profiles import Flat, Road
+from drake_car.law.tyre.slip import SlipOptions
 from drake_car.model.parameters import CarParameters
 from drake_car.scene.manoeuvres import LaneChange, Manoeuvre
 
@@ -76,13 +76,12 @@ def _check_slip(slip: SlipOptions):
 
 
 @dataclasses.dataclass
-class MagicFormula:
-    """Pacejka's Magic Formula (the book's 2006 form) with coefficients from ``tir_file`` (a
-    path, or a name in the package's ``urdf/`` data such as the default), combined slip or pure
-    slip, and the slip options (relaxation lengths, low-speed damping)."""
+class TirTyre:
+    """What the tyres read from a property file share (not loadable itself): the file
+    ``tir_file`` (a path, or a name in the package's ``urdf/`` data such as the default) and
+    the slip options (relaxation lengths, low-speed damping)."""
 
     tir_file: str = DEFAULT_TIR
-    combined_slip: bool = True
     slip: SlipOptions = dataclasses.field(default_factory=SlipOptions)
 
     def check(self):
@@ -91,15 +90,16 @@ class MagicFormula:
 
 
 @dataclasses.dataclass
-class LinearTyre:
+class MagicFormula(TirTyre):
+    """Pacejka's Magic Formula (the book's 2006 form) with the coefficients of ``tir_file``,
+    combined slip or pure slip."""
+
+    combined_slip: bool = True
+
+
+@dataclasses.dataclass
+class LinearTyre(TirTyre):
     """The Magic Formula tyre of ``tir_file`` linearised about zero slip (no saturation)."""
-
-    tir_file: str = DEFAULT_TIR
-    slip: SlipOptions = dataclasses.field(default_factory=SlipOptions)
-
-    def check(self):
-        _check_slip(self.slip)
-        return self
 
 
 @dataclasses.dataclass

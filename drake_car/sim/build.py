@@ -12,8 +12,8 @@ from pydrake.systems.primitives import (
     Adder, ConstantVectorSource, LogVectorOutput, MatrixGain, Multiplexer, PortSwitch,
     Saturation, TrajectorySource)
 
-from drake_car.law.magic_formula import MagicFormulaTyre
-from drake_car.law.tyre_contact import RadialTyre
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre
+from drake_car.law.tyre.contact import RadialTyre
 from drake_car.model.anti_roll_bar import anti_roll_bar_gain, time_step_limit_s
 from drake_car.model.car import add_car
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
@@ -24,7 +24,7 @@ from drake_car.model.steering import (
     COLUMN_LAW, add_steering_column, column_strut, release_schedule)
 from drake_car.model.struts import (
     declare_strut_friction, make_strut_friction, reference_time_step_limit_s)
-from drake_car.scene.load import channels_of, check_scene, hands_off_release_s
+from drake_car.scene.load import channels_of, hands_off_release_s
 from drake_car.scene.manoeuvres import (
     LaneChange, speed_trajectory, wheel_rotation_trajectory)
 from drake_car.scene.scene import (
@@ -73,7 +73,6 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
     """The scene's Diagram. ``branchable`` (lane changes only): both cases' rack commands
     behind a switch whose selection is a value of the context (``select_case``), so runs that
     differ only in the case can continue one saved context (``sim.branch``)."""
-    check_scene(scene)
     builder = DiagramBuilder()
     # 1. The plant and the car, then every actuator the scene needs, before Finalize.
     plant, scene_graph = AddMultibodyPlant(scene.plant, builder)

@@ -17,7 +17,7 @@ import dataclasses
 
 from pydrake.multibody.plant import MultibodyPlantConfig
 
-from drake_car.law.road import Flat
+from drake_car.law.road.profiles import Flat
 from drake_car.scene.manoeuvres import Settle
 from drake_car.scene.scene import (
     Logging, NoVisualization, Scene, Simulator, VerticalOnly)

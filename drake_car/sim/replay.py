@@ -17,7 +17,7 @@ import numpy as np
 from pydrake.geometry import Box, Meshcat, MeshcatParams, Rgba
 from pydrake.math import RigidTransform
 
-from drake_car.law.road import CosineBump, SampledProfile
+from drake_car.law.road.profiles import CosineBump, SampledProfile
 from drake_car.scene.manoeuvres import LaneChange, speed_profile
 
 LANE_WIDTH_M = 3.7  # the paper's lane change: 3.7 m sideways

@@ -17,10 +17,10 @@ from pydrake.math import RigidTransform
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
 
 from drake_car.law.checks import ParameterError, finite, nonnegative, positive
-from drake_car.law.frd_friction import StrutFrictionParameters
+from drake_car.law.friction.frd import StrutFrictionParameters, explicit_time_step_limit_s
 from drake_car.sim.monitor import Monitor
 from drake_car.systems.friction_pairs import Strut, declare_pairs
-from drake_car.systems.strut_friction import StrutFriction, explicit_time_step_limit_s
+from drake_car.systems.strut_friction import StrutFriction
 
 GRAVITY_MPS2 = 9.81
 MAX_NORMAL_FORCE_N = 1e6

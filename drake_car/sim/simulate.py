@@ -16,7 +16,7 @@ from drake_car.model.geometry import SIDES, design_axle_loads_N
 from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.scene.load import (
-    WALL_PER_STEP_S, check_scene, dump_scene, dump_scene_file, scene_hash)
+    WALL_PER_STEP_S, dump_scene, dump_scene_file, scene_hash)
 from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
 from drake_car.sim.build import build_diagram
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
@@ -103,7 +103,6 @@ class Runner:
         """``branchable``: build the Diagram so that other cases can continue its context
         (``sim.branch``); ``built`` and ``context``: continue such a Diagram's saved context
         with this scene's case instead of building anew."""
-        check_scene(scene)
         self.scene = scene
         visual = scene.visualization
         shows = isinstance(visual, (MeshcatLive, MeshcatReplay))

@@ -1,11 +1,11 @@
 """The poses and spatial velocities of a few bodies of a MultibodyPlant from its state vector:
-``law.tree_kinematics`` (compiled) on the plant's joints between the world and those bodies,
+``law.numerics.tree_kinematics`` (compiled) on the plant's joints between the world and those bodies,
 checked against the plant's own kinematics when made."""
 
 import numpy as np
 from pydrake.multibody.tree import BodyIndex
 
-from drake_car.law.tree_kinematics import JOINT_TYPES, pack_joint, tree_kinematics
+from drake_car.law.numerics.tree_kinematics import JOINT_TYPES, pack_joint, tree_kinematics
 
 # Largest difference (m, rad, m/s, rad/s) from the plant's kinematics accepted at the check.
 CHECK_TOLERANCE = 1e-9
@@ -16,7 +16,7 @@ class BodyKinematics:
     ``state`` output, one vector: cheaper to read every step than ``body_poses`` and
     ``body_spatial_velocities``, lists of every body's). ``rows[i]`` is the row of ``bodies[i]``
     in what ``__call__`` returns. Raises ValueError when a joint on the way has a type
-    ``law.tree_kinematics`` lacks (``JOINT_TYPES``)."""
+    ``law.numerics.tree_kinematics`` lacks (``JOINT_TYPES``)."""
 
     def __init__(self, plant, bodies):
         inboard = {int(plant.get_joint(j).child_body().index()): plant.get_joint(j)

@@ -1,7 +1,7 @@
 """The paper's FRD friction on a cylindrical (prismatic + revolute) pair, as a LeafSystem.
 
-The law itself lives in ``drake_car.law.frd_friction`` (its per-step evaluation for all pairs,
-compiled with numba, in ``drake_car.law.frd_compiled``); this system feeds it from the plant
+The law itself lives in ``drake_car.law.friction.frd`` (its per-step evaluation for all pairs,
+compiled with numba, in ``drake_car.law.friction.compiled``); this system feeds it from the plant
 (joint velocities and displacements, the joint's reaction force and moment) and keeps the creep
 as discrete state.
 
@@ -75,8 +75,8 @@ from pydrake.multibody.math import SpatialForce
 from pydrake.multibody.tree import PdControllerGains, PrismaticJoint, RevoluteJoint
 from pydrake.systems.framework import LeafSystem
 
-from drake_car.law.frd_compiled import friction_step, pack_pair, pack_strut
-from drake_car.law.frd_friction import STATIC, StrutFrictionParameters, shape_max_slope
+from drake_car.law.friction.compiled import friction_step, pack_pair, pack_strut
+from drake_car.law.friction.frd import STATIC, StrutFrictionParameters, shape_max_slope
 from drake_car.systems.failure import SimulationFailure
 from drake_car.systems.friction_pairs import Strut
 
@@ -84,18 +84,6 @@ SCHEMES = ("fast", "reference")
 DIAGNOSTIC_FIELDS = ("v", "creep", "beta", "mu1", "mu", "phase", "N", "friction")
 _NONE = np.zeros(0)  # the reference scheme has no PD targets or gains
 _NO_REACTION = np.zeros(6)  # a strut with a constant normal force
-
-
-def explicit_time_step_limit_s(mass, normal, law):
-    """Largest stable step of the ``reference`` (explicit) scheme on a pair of effective mass
-    (or inertia) ``mass`` under the normal force ``normal`` (for a rotation pair: its moment
-    scale N r), ``law`` a ``FrictionPairLaw``: the β term of eq. (1) is a damper whose largest
-    slope is s'·μs·N/Δv (s' = 1.5 for the cubic STEP), and an explicit damper c on a mass m is
-    stable for dt < 2m/c. Infinite when μs = 0."""
-    slope = shape_max_slope(law.beta_shape) * law.mu_s * normal
-    if slope <= 0:
-        return math.inf
-    return 2.0 * mass * law.dv / slope
 
 
 class _StrutData:
@@ -169,7 +157,6 @@ class StrutFriction(LeafSystem):
         labels = [s.label for s in struts]
         if len(set(labels)) != len(labels):
             raise ValueError(f"{name}: strut labels {labels} must be distinct")
-        params.check()
         self.set_name(name)
         self._name = name
         self._params = params
@@ -181,7 +168,7 @@ class StrutFriction(LeafSystem):
         for k, strut in enumerate(struts):
             if not strut.pairs:
                 raise ValueError(f"{name}: strut '{strut.label}' has no friction pair")
-            law = (strut.params.check() if strut.params is not None else params)
+            law = strut.params if strut.params is not None else params
             for pair in strut.pairs:
                 expected = PrismaticJoint if pair.kind == "translation" else RevoluteJoint
                 if not isinstance(pair.joint, expected):
@@ -283,7 +270,7 @@ class StrutFriction(LeafSystem):
     def _compute(self, context, discrete_state, x, t, initial):
         """Advances the creep memory (in ``discrete_state``) to the plant state ``x`` and
         computes the friction, the fast scheme's PD targets and gains, and the diagnostics,
-        into ``discrete_state`` (``law.frd_compiled.friction_step``)."""
+        into ``discrete_state`` (``law.friction.compiled.friction_step``)."""
         reactions = self._no_reactions
         if self._reaction_port is not None:
             forces = self._reaction_port.Eval(context)

@@ -9,11 +9,11 @@ from pydrake.multibody.plant import Propeller, PropellerInfo
 from pydrake.multibody.tree import BodyIndex
 from pydrake.systems.framework import LeafSystem
 
-from drake_car.law.magic_formula import magic_formula
-from drake_car.law.road import Flat
-from drake_car.law.tyre_compiled import pack_coefficients, pack_config, pack_road, tyre_step
-from drake_car.law.tyre_contact import RadialTyre
-from drake_car.law.tyre_slip import SlipOptions
+from drake_car.law.tyre.magic_formula import magic_formula
+from drake_car.law.road.profiles import Flat
+from drake_car.law.tyre.compiled import pack_coefficients, pack_config, pack_road, tyre_step
+from drake_car.law.tyre.contact import RadialTyre
+from drake_car.law.tyre.slip import SlipOptions
 from drake_car.systems.body_kinematics import BodyKinematics
 from drake_car.systems.failure import SimulationFailure
 
@@ -59,13 +59,13 @@ class TyreSystem(LeafSystem):
     deflections (m). ``tyre_diagnostics``: per wheel the fields ``DIAGNOSTIC_FIELDS`` in the
     contact frame (x along the wheel heading, y to its left; ISO slip conventions).
 
-    With ``linear`` the horizontal forces come from ``law.magic_formula.linear_tyre`` (the
+    With ``linear`` the horizontal forces come from ``law.tyre.magic_formula.linear_tyre`` (the
     same tyre linearised about zero slip) instead.
 
     Vertical: deflection δ = max(0, h(x_c, y_c) - z_c) at the lowest point c of the wheel's
     circle, Fz = max(0, k δ + c δ̇) with δ̇ = -v_z of the wheel centre. Horizontal (when a Magic
-    Formula tyre is given): Fx, Fy, Mz, My of ``drake_car.law.magic_formula`` at the slips of
-    ``drake_car.law.tyre_slip`` (transient with relaxation lengths, kept as discrete state, or
+    Formula tyre is given): Fx, Fy, Mz, My of ``drake_car.law.tyre.magic_formula`` at the slips of
+    ``drake_car.law.tyre.slip`` (transient with relaxation lengths, kept as discrete state, or
     steady), effective rolling radius R_e = R0 - δ/3, plus a viscous contact damping faded in
     below a low speed. Without relaxation the slips divide by max(|V_x|, v_floor): such a tyre is
     stiff at low speed and meant for runs that start rolling.
@@ -77,8 +77,8 @@ class TyreSystem(LeafSystem):
     the initial state). The plant reads the forces at its next step: they are the forces of the
     state it steps from, as a direct-feedthrough calculation would give, computed once. All
     outputs are state output ports and the forces reach the plant through Drake's C++: no Python
-    runs when they are read. The maths is ``law.tyre_compiled`` (numba), the pure-Python law is
-    its reference. ``road_height`` is one of ``law.road``'s profiles (default ``Flat``).
+    runs when they are read. The maths is ``law.tyre.compiled`` (numba), the pure-Python law is
+    its reference. ``road_height`` is one of ``law.road.profiles``'s profiles (default ``Flat``).
     """
 
     def __init__(self, wheel_bodies: dict, tyre: RadialTyre, road_height=None, *,

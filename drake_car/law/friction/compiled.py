@@ -15,7 +15,7 @@ import math
 import numba
 import numpy as np
 
-from drake_car.law.frd_friction import NORMAL_FORCE_FORMS, shape_max_slope
+from drake_car.law.friction.frd import NORMAL_FORCE_FORMS, shape_max_slope
 
 # The friction phases, as ``frd_friction``'s (a test checks they are equal). Defined here, not
 # imported: numba freezes the globals a compiled function reads into its on-disk cache, which

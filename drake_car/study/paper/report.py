@@ -11,16 +11,16 @@ order of convergence is known), so that a reader sees how far each verdict is fr
 import dataclasses
 import math
 
-from drake_car.study.measures import claim_measures, error_estimates
-from drake_car.study.paper import (
+from drake_car.study.paper.measures import claim_measures, error_estimates
+from drake_car.study.paper.claims import (
     DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, place_values, run_of)
-from drake_car.study.previous_car import previous_car_section
+from drake_car.study.paper.previous_car import previous_car_section
 
 
 # -- formatting ------------------------------------------------------------------------------
 
 SYMBOLS = {"<=": "≤", "<": "<", ">": ">", ">=": "≥", "==": "="}
-# The figures that show each claim (files of drake_car.study.figures.all_figures).
+# The figures that show each claim (files of drake_car.study.paper.figures.all_figures).
 CLAIM_FIGURES = {1: ("claim1_return.png", "fig14_a.png", "fig14_b.png"),
                  2: ("fig14_a.png", "fig14_b.png", "fig15_a.png", "fig15_b.png"),
                  3: ("load_split.png",),

@@ -14,7 +14,7 @@ inclination γ: rotation of the wheel about its x axis (positive: top leaning to
 import dataclasses
 import math
 
-from drake_car.law.tir import TirFileError, read_tir
+from drake_car.law.tyre.tir import TirFileError, read_tir
 
 # Coefficients that the book's Table A3.1 lists; the .tir must give them all.
 REQUIRED = (

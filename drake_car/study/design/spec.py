@@ -17,11 +17,12 @@ import typing
 import numpy as np
 from pydrake.common.yaml import yaml_load_typed
 
-from drake_car.law.road import SampledProfile
+from drake_car.law.road.profiles import SampledProfile
+from drake_car.law.checks import one_line
 from drake_car.scene.load import SceneError, check_scene, hands_off_release_s, load_scene
 from drake_car.scene.manoeuvres import speed_profile
 from drake_car.scene.scene import HandsOff, Scene
-from drake_car.study.paper import place_values
+from drake_car.study.paper.claims import place_values
 
 
 @dataclasses.dataclass
@@ -111,7 +112,7 @@ def load_study(path, child=None) -> DesignStudy:
         study = yaml_load_typed(schema=DesignStudy, filename=str(path), child_name=child,
                                 defaults=DesignStudy())
     except Exception as e:
-        raise SceneError(f"{path}: {' '.join(str(e).split())}") from None
+        raise SceneError(f"{path}: {one_line(e)}") from None
     check_scene(study.base, f"{path}: base")
     try:
         _check_values(study)

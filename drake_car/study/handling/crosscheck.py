@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from drake_car.study.handling import single_track
+from drake_car.study.handling.measures import single_track
 
 # 0-based indices into MB's 29 states that the outputs use.
 DELTA, VX, YAW_RATE, ROLL, VY = 2, 3, 5, 6, 10
@@ -210,7 +210,7 @@ def single_track_chain(p, *, speed_mps, our_mass_kg, our_cog_to_front_m, our_whe
     axle loads its a, b give (m g b/L, m g a/L); our tyres' axle stiffnesses (at our static
     loads); our mass, CoG and wheelbase; our yaw inertia; our tyres' relaxation length. Each
     with K, r/δ, the sideslip gradient and (given a steer series) the step-response times."""
-    from drake_car.study.handling import single_track_response, step_response
+    from drake_car.study.handling.measures import single_track_response, step_response
     loads = static_axle_loads(p)
     L = p.a + p.b
     models = [("MB data", dict(m=p.m, a=p.a, L=L, cf=2 * tyre_stiffness(p, loads["front"] / 2),

@@ -20,7 +20,7 @@ import math
 import numba
 import numpy as np
 
-from drake_car.law.road import CosineBump, Flat, SampledProfile
+from drake_car.law.road.profiles import CosineBump, Flat, SampledProfile
 
 # The coefficients the compiled formula reads, by name (defined here, not imported, so that the
 # cached machine code and its indices come from one file).
@@ -128,7 +128,7 @@ def _weight(b, c, e, x, shift):
 
 @_jit
 def magic_formula(t, fz, kappa, alpha, gamma, vx, combined):
-    """``law.magic_formula.magic_formula`` on packed coefficients ``t``: returns (fx, fy, mz,
+    """``law.tyre.magic_formula.magic_formula`` on packed coefficients ``t``: returns (fx, fy, mz,
     my, fx0, fy0, cornering_stiffness, slip_stiffness, pneumatic_trail)."""
     if fz <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -216,7 +216,7 @@ def magic_formula(t, fz, kappa, alpha, gamma, vx, combined):
 
 @_jit
 def linear_tyre(t, fz, kappa, alpha, gamma, vx):
-    """``law.magic_formula.linear_tyre`` on packed coefficients; returns as ``magic_formula``."""
+    """``law.tyre.magic_formula.linear_tyre`` on packed coefficients; returns as ``magic_formula``."""
     f = magic_formula(t, fz, 0.0, 0.0, gamma, vx, False)
     fx = f[0] + f[7] * kappa
     fy = f[1] + f[6] * alpha
@@ -230,7 +230,7 @@ def linear_tyre(t, fz, kappa, alpha, gamma, vx):
 
 @_jit
 def relax(deflection, slip_velocity_term, speed, length, dt):
-    """``law.tyre_slip.relax``."""
+    """``law.tyre.slip.relax``."""
     rate = abs(speed) / length
     if rate * dt < 1e-9:
         return deflection + slip_velocity_term * dt

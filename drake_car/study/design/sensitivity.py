@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 
+from drake_car.study.design.spec import factor
+
 
 def factor_values(factor, points):
     """``points`` values spanning the factor's range (geometric with ``log``)."""
@@ -18,7 +20,6 @@ def factor_values(factor, points):
 def map_points(study, spec):
     """The points of a 2-D slice: [{x_key: x, y_key: y}, ...] (the other factors at the
     paper's values, i.e. the base scene's)."""
-    from drake_car.study.design import factor
     fx, fy = factor(study, spec.x), factor(study, spec.y)
     return [{spec.x: x, spec.y: y} for y in factor_values(fy, spec.points)
             for x in factor_values(fx, spec.points)]

@@ -37,9 +37,9 @@ import math
 
 import numpy as np
 
-from drake_car.law.magic_formula import linear_tyre, magic_formula
+from drake_car.law.tyre.magic_formula import linear_tyre, magic_formula
 from drake_car.model.geometry import whole_car_cog_to_front_m
-from drake_car.study.handling import (
+from drake_car.study.handling.measures import (
     DEFAULT_AY_RANGE,
     DEG_PER_G,
     HandlingError,

@@ -9,8 +9,8 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.scene.load import load_scene
 from drake_car.scene.scene import HandsOff
-from drake_car.study.design import rough_road, with_value
-from drake_car.study.sensitivity import map_points, sobol_points
+from drake_car.study.design.spec import rough_road, with_value
+from drake_car.study.design.sensitivity import map_points, sobol_points
 
 
 def quick(study):

@@ -8,7 +8,7 @@ import numpy as np
 
 from drake_car.model.geometry import SIDES
 from drake_car.scene.manoeuvres import Timeline
-from drake_car.study.paper import (
+from drake_car.study.paper.claims import (
     CASES, DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, count_reaching, phase_one_return,
     place_values)
 

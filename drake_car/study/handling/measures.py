@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from drake_car.law.magic_formula import linear_tyre, magic_formula
+from drake_car.law.tyre.magic_formula import linear_tyre, magic_formula
 from drake_car.model.parameters import GRAVITY_MPS2
 
 # rad per m/s² -> deg per g
@@ -246,7 +246,7 @@ def step_steer(history, *, steer_rad, cog_offset_m, mass_kg=None, steady_window_
 
 def axle_cornering_stiffness(tyre, axle_load_N, *, gamma_rad=0.0, linear=False, vx=16.7):
     """Cornering stiffness of an axle (N/rad, positive): two tyres of ``tyre`` (a
-    ``law.magic_formula.MagicFormulaTyre``) at half the axle load each, zero slip."""
+    ``law.tyre.magic_formula.MagicFormulaTyre``) at half the axle load each, zero slip."""
     law = linear_tyre if linear else magic_formula
     f = law(tyre, 0.5 * axle_load_N, 0.0, 0.0, gamma_rad, vx)
     return -2.0 * f.cornering_stiffness

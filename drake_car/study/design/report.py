@@ -5,8 +5,8 @@ import math
 
 import numpy as np
 
-from drake_car.study.design import factor, paper_value
-from drake_car.study.design_tables import map_grid
+from drake_car.study.design.spec import factor, paper_value
+from drake_car.study.design.tables import map_grid
 
 
 # How the noise of each outcome is written: (scale, unit).

@@ -78,6 +78,18 @@ def shape_max_slope(kind):
     return 1.5 if kind == "cubic" else 1.0
 
 
+def explicit_time_step_limit_s(mass, normal, law):
+    """The law's own stability bound: the largest stable step of the ``reference`` (explicit) scheme on a pair of effective mass
+    (or inertia) ``mass`` under the normal force ``normal`` (for a rotation pair: its moment
+    scale N r), ``law`` a ``FrictionPairLaw``: the β term of eq. (1) is a damper whose largest
+    slope is s'·μs·N/Δv (s' = 1.5 for the cubic STEP), and an explicit damper c on a mass m is
+    stable for dt < 2m/c. Infinite when μs = 0."""
+    slope = shape_max_slope(law.beta_shape) * law.mu_s * normal
+    if slope <= 0:
+        return math.inf
+    return 2.0 * mass * law.dv / slope
+
+
 def beta(speed, law: FrictionPairLaw):
     """β(|v|): 0 at rest, 1 at the threshold velocity Δv."""
     return shape(abs(speed) / law.dv, law.beta_shape)

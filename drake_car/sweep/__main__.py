@@ -1,4 +1,4 @@
-"""Runs many scenes on Dask and keeps each result as it completes (``study.sweep``):
+"""Runs many scenes on Dask and keeps each result as it completes (``sweep.runner``):
 
   DIR/runs/<hash>/  each run by its scene's content hash: status.json (ok or failed, wall
                     time, worker, error), scene.yaml (the scene as it ran), and for an ok run
@@ -33,23 +33,25 @@ import json
 import os
 import sys
 import time
-import uuid
 from pathlib import Path
 
 from pydrake.common.yaml import yaml_dump, yaml_load
 
 from drake_car import cli
+from drake_car.law.checks import one_line
+from drake_car.results.files import write_json
+from drake_car.results.folder import OutputError, terminate_as_exit
+from drake_car.results.provenance import provenance
 from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_scene_option
 from drake_car.scene.scene import MeshcatLive
-from drake_car.sim.outputs import OutputError, provenance, terminate_as_exit
-from drake_car.study.sweep import cores, dask_client, missing, run_sweep
-from drake_car.study.sweep_folder import check_unlocked
+from drake_car.sweep.store import check_unlocked
+from drake_car.sweep.runner import cores, dask_client, missing, run_sweep
 
 GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0.2)"
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, prog="python -m drake_car.sweep")
     p.add_argument("--scenes", required=True, help="scenes file (each entry a run) or FILE:ENTRY")
     p.add_argument("--scene_text", default="", help="YAML laid over every scene")
     p.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
@@ -87,7 +89,7 @@ def main(argv=None):
             except (OSError, ValueError) as e:
                 if not args.scheduler:
                     raise
-                p.error(f"--scheduler {args.scheduler}: cannot connect ({_one_line(e)})")
+                p.error(f"--scheduler {args.scheduler}: cannot connect ({one_line(e)})")
         workers = len(client.scheduler_info()["workers"]) if client else 0
         if client:
             print(f"on {workers} workers of {args.scheduler or 'a local cluster'}"
@@ -103,7 +105,7 @@ def main(argv=None):
     wall = time.perf_counter() - began
     entry["scenes"] = summary["hashes"]
     entry["summary"] = {k: summary[k] for k in ("ok", "failed", "reused")} | {"wall_s": wall}
-    _write_json(args.out / "sweep.json", log)
+    write_json(args.out / "sweep.json", log)
     failed = sorted(k for k, s in summary["status"].items() if s == "failed")
     print(f"{len(summary['status'])} runs: {summary['ok']} done now, {summary['reused']} "
           f"reused, {len(failed)} failed, in {wall:.1f} s; wrote {args.out} (index: "
@@ -138,7 +140,7 @@ def overlay(scene_text, point):
     try:
         data = yaml_load(data=scene_text) if scene_text.strip() else {}
     except Exception as e:
-        raise SceneError(f"--scene_text {scene_text!r}: not YAML: {_one_line(e)}") from None
+        raise SceneError(f"--scene_text {scene_text!r}: not YAML: {one_line(e)}") from None
     if not isinstance(data, dict):
         raise SceneError(f"--scene_text {scene_text!r}: must be a mapping of scene keys")
     for key, value in point:
@@ -189,10 +191,6 @@ def _grid_option(p, item):
     return key, values
 
 
-def _one_line(e):
-    return " ".join(str(e).split())
-
-
 def _log_invocation(out, entry):
     """sweep.json's record of invocations with ``entry`` appended (written now: the folder is
     then a sweep's, resumable even if this one is killed)."""
@@ -202,14 +200,9 @@ def _log_invocation(out, entry):
     except (OSError, ValueError):
         log = {"invocations": []}
     log["invocations"].append(entry)
-    _write_json(out / "sweep.json", log)
+    write_json(out / "sweep.json", log)
     return log
 
-
-def _write_json(path, data):
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}")
-    tmp.write_text(json.dumps(data, indent=1) + "\n")
-    os.replace(tmp, path)
 
 
 if __name__ == "__main__":

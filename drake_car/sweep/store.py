@@ -1,23 +1,23 @@
 """A sweep's results folder: a run folder per content hash (written whole as its run
 completes), the index rebuilt from them, a lock so that one sweep writes at a time
-(``study.sweep`` describes the layout). A failed run's status.json says its kind: "run" (the
+(``sweep.runner`` describes the layout). A failed run's status.json says its kind: "run" (the
 simulation raised: kept) or "infrastructure" (Dask gave no result, or its files could not be
 written: the next sweep runs it again); one without a kind counts as "run"."""
 
-import contextlib
 import csv
+import io
 import json
-import os
 import pickle
 import shutil
 import traceback
 import uuid
 from pathlib import Path
 
-import psutil
-
+from drake_car.results.files import write_run, write_text
+from drake_car.results.folder import OutputError
+from drake_car.results.folder import folder_lock as results_folder_lock
+from drake_car.results.lock import holder
 from drake_car.scene.load import dump_scene_file
-from drake_car.sim.outputs import OutputError, write_run
 
 INDEX_FIELDS = ("hash", "name", "status", "wall_s", "error")
 # A failed run's kind (its status.json's "kind"): the run itself raised (kept: a run is a pure
@@ -46,12 +46,11 @@ def rebuild_index(out_dir):
     rows = [s for d in (out / "runs").iterdir()
             if not d.name.startswith(".") and (s := read_status(d))]
     rows.sort(key=lambda s: (s.get("finished_utc", ""), s["hash"]))
-    tmp = out / f".index.csv.{uuid.uuid4().hex[:8]}"
-    with open(tmp, "w", newline="") as f:
-        writer = csv.DictWriter(f, INDEX_FIELDS, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows(rows)
-    os.replace(tmp, out / "index.csv")
+    buffer = io.StringIO(newline="")
+    writer = csv.DictWriter(buffer, INDEX_FIELDS, extrasaction="ignore")
+    writer.writeheader()
+    writer.writerows(rows)
+    write_text(out / "index.csv", buffer.getvalue())
 
 
 def load_run(out_dir, key):
@@ -102,33 +101,13 @@ def remove_stale(runs):
 
 
 def check_unlocked(out):
-    """Refuses ``out`` while another live sweep writes to it (its ``.sweep.lock``)."""
-    try:
-        pid = int((Path(out) / ".sweep.lock").read_text().strip() or "0")
-    except (OSError, ValueError):
-        return
-    if pid != os.getpid() and psutil.pid_exists(pid):
-        raise OutputError(f"--out {out}: another sweep (pid {pid}) is writing to it; wait "
+    """Refuses ``out`` while another live sweep writes to it (holds its ``.sweep.lock``)."""
+    owner = holder(Path(out) / ".sweep.lock")
+    if owner is not None:
+        raise OutputError(f"--out {out}: another sweep (pid {owner}) is writing to it; wait "
                           "for it or choose another folder")
 
 
-@contextlib.contextmanager
 def folder_lock(out):
-    lock = out / ".sweep.lock"
-    for _ in range(2):
-        try:
-            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
-            break
-        except FileExistsError:
-            check_unlocked(out)
-            lock.unlink(missing_ok=True)  # a killed sweep's lock
-    else:
-        raise OutputError(f"--out {out}: cannot take the lock {lock}")
-    with os.fdopen(fd, "w") as f:
-        f.write(str(os.getpid()))
-    try:
-        yield
-    finally:
-        lock.unlink(missing_ok=True)
-
-
+    """The sweep folder's lock (``results.lock``): one sweep writes to a folder at a time."""
+    return results_folder_lock(Path(out) / ".sweep.lock", out, what="sweep")

@@ -15,7 +15,7 @@ loaded and checked on the worker; its ``Run`` comes back pickled (with its scene
                                   worker: build, equilibrium unless cached, run), worker,
                                   finished_utc, error, traceback
     DIR/runs/<hash>/scene.yaml    the scene (rerun it: python -m drake_car.run --scene it)
-    DIR/runs/<hash>/history.csv, run.json   an ok run's files (``sim.outputs.write_run``)
+    DIR/runs/<hash>/history.csv, run.json   an ok run's files (``results.files.write_run``)
     DIR/runs/<hash>/run.pkl       an ok run's ``Run`` as pickled (what a restart hands back)
     DIR/index.csv                 hash, name, status, wall_s, error: a row per run folder
 
@@ -47,11 +47,12 @@ from pathlib import Path
 
 from pydrake.common.yaml import yaml_load_typed
 
+from drake_car.law.checks import one_line
 from drake_car.scene.load import check_scene, dump_scene, scene_hash
 from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
-from drake_car.study.sweep_folder import (
+from drake_car.sweep.store import (
     INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, commit_run, failure_kind, folder_lock,
     load_run, read_status, rebuild_index, remove_stale)
 from drake_car.systems.failure import SimulationFailure
@@ -129,7 +130,7 @@ def _scene_of(text, expected_hash):
 
 def _failed(e, began, worker):
     return {"run": None, "wall_s": time.perf_counter() - began, "worker": worker,
-            "error": f"{type(e).__name__}: {' '.join(str(e).split())}",
+            "error": f"{type(e).__name__}: {one_line(e)}",
             "traceback": traceback.format_exc(), "exception": _pickled(e)}
 
 
@@ -232,7 +233,7 @@ def _record(job, result):
     if isinstance(result, tuple):  # as_completed gives (type, error, traceback)
         result = result[1]
     # KilledWorker, cancelled, run_task not importable on the worker, ...
-    record.update(error=f"{type(result).__name__}: {' '.join(str(result).split())}",
+    record.update(error=f"{type(result).__name__}: {one_line(result)}",
                   traceback="".join(traceback.format_exception(result)))
     return record, result
 

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from drake_car.study.design import OUTCOMES, factor
-from drake_car.study.sensitivity import factor_values, sobol_indices
+from drake_car.study.design.spec import OUTCOMES, factor
+from drake_car.study.design.sensitivity import factor_values, sobol_indices
 
 # The outcomes the Sobol analysis ranks the factors on (hands-on runs).
 SOBOL_OUTCOMES = ("split_change_rel", "rack_force_change_N")

@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import FuncFormatter, MultipleLocator  # noqa: E402
 
-from drake_car.study.paper import (  # noqa: E402
+from drake_car.study.paper.claims import (  # noqa: E402
     CASES, DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, count_reaching, phase_one_return,
     place_values, run_of)
 

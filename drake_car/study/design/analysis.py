@@ -5,13 +5,13 @@ Monte Carlo and mitigations, the numerical noise), with the figures written besi
 import math
 
 from drake_car.scene.load import scene_hash
-from drake_car.sim.outputs import provenance
-from drake_car.study import design_figures as figures
-from drake_car.study import design_report as report
-from drake_car.study import design_runs as runs_of
-from drake_car.study import design_tables as tables
-from drake_car.study.design import OUTCOMES, factor, outcomes, paper_value, value_of
-from drake_car.study.sweep_folder import load_run, read_status
+from drake_car.results.provenance import provenance
+from drake_car.study.design import figures
+from drake_car.study.design import report
+from drake_car.study.design import runs as runs_of
+from drake_car.study.design import tables
+from drake_car.study.design.spec import OUTCOMES, factor, outcomes, paper_value, value_of
+from drake_car.sweep.store import load_run, read_status
 
 
 def table(study, parts, sweep_dir):

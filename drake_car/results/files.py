@@ -1,0 +1,93 @@
+"""The results' files: one atomic writer (``write_text``: a temporary file beside the target,
+renamed over it, so a reader never sees half a file), JSON made from numpy values, lossless
+CSV (floats in their shortest exact form), and a run's own files (``write_run``)."""
+
+import csv
+import io
+import json
+import math
+import os
+import uuid
+from pathlib import Path
+
+import numpy as np
+
+from drake_car.results.diagram import write_diagram_svg
+from drake_car.results.provenance import provenance
+
+
+def write_text(path, text):
+    """Writes ``text`` to ``path`` atomically (a temporary file beside it, then renamed)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def plain(value):
+    """``value`` with numpy types and non-finite floats made JSON-ready."""
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist())
+    if isinstance(value, (np.floating, np.integer, np.bool_)):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def write_json(path, data):
+    """``data`` (numpy values and non-finite floats made JSON-ready) as indented JSON."""
+    write_text(path, json.dumps(plain(data), indent=2, sort_keys=False) + "\n")
+
+
+def write_csv(path, columns: dict):
+    """``columns``: name -> sequence (all the same length); strings or numbers. Floats are
+    written with ``repr`` (shortest round-trip form): the CSV carries the run's bits."""
+    names = list(columns)
+    lengths = {len(columns[n]) for n in names}
+    if len(lengths) > 1:
+        raise ValueError(f"columns of different lengths: "
+                         f"{ {n: len(columns[n]) for n in names} }")
+    rows = zip(*(columns[n] for n in names))
+    buffer = io.StringIO(newline="")
+    writer = csv.writer(buffer)
+    writer.writerow(names)
+    for row in rows:
+        writer.writerow([repr(float(x)) if isinstance(x, (float, np.floating)) else x
+                         for x in row])
+    write_text(path, buffer.getvalue())
+
+
+def read_csv(path):
+    """Reads a CSV written by ``write_csv``: name -> numpy array (or list of str)."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    names, data = rows[0], rows[1:]
+    out = {}
+    for i, name in enumerate(names):
+        values = [r[i] for r in data]
+        try:
+            out[name] = np.array([float(v) for v in values])
+        except ValueError:
+            out[name] = values
+    return out
+
+
+def write_run(run, folder, *, diagram=True):
+    """A run's own files: history.csv, scene.yaml (the scene as it ran), run.json (how it went,
+    provenance), diagram.svg and replay.html when there is one."""
+    folder = Path(folder)
+    write_csv(folder / "history.csv", run.history)
+    write_text(folder / "scene.yaml", run.scene_file_text)
+    write_json(folder / "run.json", run.record() | {"provenance": provenance()})
+    if diagram:
+        write_diagram_svg(run.diagram_dot, folder / "diagram.svg")
+    if run.replay_html is not None:
+        write_text(folder / "replay.html", run.replay_html)

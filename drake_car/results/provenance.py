@@ -1,0 +1,64 @@
+"""How a result was made: the command, the code (git commit and whether it had uncommitted
+changes, drake_car's installed version) and the versions of what can change its bits."""
+
+import datetime
+import importlib.metadata
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+
+def provenance(**extra):
+    """How a result was made: command, versions (drake_car's as installed, None if it is not),
+    the git commit of drake_car's source and whether its working tree had uncommitted changes
+    (both None when the source is not in a git checkout: ``source_checkout``), time."""
+    commit, dirty = source_checkout()
+    info = {
+        "command": " ".join([Path(sys.argv[0]).name] + sys.argv[1:]),
+        "git_commit": commit,
+        "dirty": dirty,
+        "drake_car": _installed_version("drake_car"),
+        "drake": _installed_version("drake") or "unknown",
+        "python": platform.python_version(),
+        "numpy": _installed_version("numpy") or "unknown",
+        "machine": platform.machine(),
+        "created_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+    }
+    info.update(extra)
+    return info
+
+
+def source_checkout():
+    """(commit, dirty) of the git checkout that holds drake_car's source: its HEAD, and whether
+    tracked files have uncommitted changes. (None, None) when there is none: no git, or the
+    package is not a tracked folder of that checkout (an installed copy inside some other
+    repository, say in its ignored virtual environment, does not take that repository's)."""
+    package = Path(__file__).resolve().parents[1]
+    found = (_git(package, "rev-parse", "--show-toplevel", "HEAD") or "").splitlines()
+    if len(found) != 2:
+        return None, None
+    top, commit = Path(found[0]).resolve(), found[1].strip()
+    if top not in package.parents or not _git(
+            top, "ls-files", "--", str(package.relative_to(top) / "__init__.py")):
+        return None, None
+    changes = _git(top, "status", "--porcelain", "--untracked-files=no")
+    return commit, None if changes is None else bool(changes)
+
+
+def _git(folder, *args):
+    """What ``git -C folder args`` printed, stripped; None if git is missing or fails."""
+    try:
+        done = subprocess.run(["git", "-C", str(folder), *args], capture_output=True,
+                              text=True, timeout=5)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return done.stdout.strip() if done.returncode == 0 else None
+
+
+def _installed_version(package):
+    """``package``'s installed version (None if it is not installed)."""
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return None
