@@ -30,6 +30,9 @@ import settle  # noqa: E402
 import suspension_kinematics  # noqa: E402
 
 TIR = (ROOT / "urdf" / "tyres" / "pacejka2006_205_60R15.tir").read_text()
+TYRE_DATA = Path(__file__).parent / "data" / "tyres"
+SEDAN = (TYRE_DATA / "Sedan_Pac02Tire.tir").read_text()
+MF61 = (TYRE_DATA / "MagicFormula61_Parameters.tir").read_text()
 RUN = ["--scene", "scenes/paper_study.yaml:a_1"]
 
 
@@ -129,6 +132,25 @@ CASES = [
      "UNLOADED_RADIUS"),
     ("a coefficient of 1e300", run_command.main,
      lambda t: scene_text(tyre(tir_file(t, TIR.replace("= -14.95", "= -1.0e300")))), "bad.tir"),
+    ("MF-Swift .tir", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("'PAC2002'", "'MF-SWIFT'")))),
+     "bad.tir: PROPERTY_FILE_FORMAT 'MF-SWIFT' is a tyre model drake_car does not implement"),
+    ("MF_05 .tir by FITTYP", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, MF61.replace("=    61 ", "=    5 ")))),
+     "bad.tir:14: FITTYP = 5 is a Magic Formula version drake_car does not implement"),
+    ("unknown unit in [UNITS]", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("'meter'", "'furlong'")))),
+     "bad.tir:5: [UNITS] LENGTH = 'furlong'"),
+    ("bad [SHAPE] table row", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("1.0    0.4", "1.0    wide")))),
+     "bad.tir:32: cannot read line '1.0 wide' in table [SHAPE]"),
+    ("coefficient in two sections", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("[LONGITUDINAL_COEFFICIENTS]",
+                                                         "[LONGITUDINAL_COEFFICIENTS]\nPKY1 = 1")))),
+     "PKY1 is given twice (in [LONGITUDINAL_COEFFICIENTS] and [LATERAL_COEFFICIENTS])"),
+    ("MF 6.1 range reversed", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, MF61.replace("=    18000 ", "=    -1 ")))),
+     "bad.tir:110: FZMAX = -1 is below FZMIN = 0"),
     ("a binary .tir", run_command.main,
      lambda t: scene_text(tyre(tir_file(t, "", binary=True))), "not a text file"),
     ("a missing .tir", run_command.main,
