@@ -16,6 +16,7 @@ import pytest
 
 from drake_car import cli
 from drake_car import run as run_command
+from drake_car.tyre import __main__ as tyre_command
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "experiments"))
@@ -151,6 +152,14 @@ CASES = [
     ("MF 6.1 range reversed", run_command.main,
      lambda t: scene_text(tyre(tir_file(t, MF61.replace("=    18000 ", "=    -1 ")))),
      "bad.tir:110: FZMAX = -1 is below FZMIN = 0"),
+    ("a truck's tyre on the car", run_command.main,
+     lambda t: scene_text(tyre(TYRE_DATA / "335_65R22_5_G275MSA_60psi.tir")),
+     "is valid for wheel loads 10752..30578 N"),
+    ("tyre command: unsupported format", tyre_command.main,
+     lambda t: ["--tir", tir_file(t, SEDAN.replace("'PAC2002'", "'FTIRE'"))],
+     "bad.tir: PROPERTY_FILE_FORMAT 'FTIRE' is a tyre model drake_car does not implement"),
+    ("tyre command: missing file", tyre_command.main,
+     lambda t: ["--tir", t / "nowhere.tir"], "nowhere.tir: tyre property file not found"),
     ("a binary .tir", run_command.main,
      lambda t: scene_text(tyre(tir_file(t, "", binary=True))), "not a text file"),
     ("a missing .tir", run_command.main,

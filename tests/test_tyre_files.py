@@ -120,3 +120,26 @@ def test_unsupported_formats_are_refused_by_name(tmp_path, text, match):
     path.write_text(text)
     with pytest.raises(TirFileError, match=match):
         MagicFormulaTyre.from_file(path)
+
+
+def test_tyre_command_writes_curves_figures_and_summary(tmp_path):
+    from drake_car.tyre.__main__ import main
+    out = tmp_path / "sedan"
+    main(["--tir", str(DATA / "Sedan_Pac02Tire.tir"), "--out", str(out)])
+    rows = list(csv.DictReader((out / "curves.csv").open()))
+    assert list(rows[0]) == ["case", "fz_N", "kappa", "alpha_rad", "gamma_rad", "fx_N", "fy_N",
+                             "mz_Nm"]
+    assert {r["case"] for r in rows} == {"pure_long", "pure_lat", "lat_camber", "combined"}
+    assert len({r["fz_N"] for r in rows}) >= 3
+    assert any(float(r["gamma_rad"]) != 0 for r in rows)
+    tyre = MagicFormulaTyre.from_file(DATA / "Sedan_Pac02Tire.tir")
+    for r in rows[::97]:  # the curves are the law's, ISO-W
+        f = magic_formula(tyre, float(r["fz_N"]), float(r["kappa"]), float(r["alpha_rad"]),
+                          float(r["gamma_rad"]), tyre.LONGVL)
+        assert (float(r["fx_N"]), float(r["fy_N"]), float(r["mz_Nm"])) == (f.fx, f.fy, f.mz)
+    for name in ("fy_alpha", "mz_alpha", "fx_kappa", "friction_ellipse", "stiffness_load"):
+        assert (out / f"{name}.png").stat().st_size > 10_000, name
+    summary = (out / "summary.txt").read_text()
+    for text in ("format: PAC2002", "mu_y", "cornering stiffness", "coefficients defaulted",
+                 "RCX1", "relaxation lengths"):
+        assert text in summary, text
