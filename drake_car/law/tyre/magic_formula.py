@@ -318,3 +318,20 @@ def linear_tyre(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx):
     mz = f.mz - f.pneumatic_trail * f.cornering_stiffness * alpha
     return TyreForces(fx, fy, mz, my, fx, fy, f.cornering_stiffness, f.slip_stiffness,
                       f.pneumatic_trail)
+
+
+def relaxation_lengths_m(tyre, fz):
+    """PAC2002's relaxation lengths (σκ, σα) in m from the file's PTX*, PTY* at load ``fz`` and
+    zero camber, or None when the file has none: σκ = Fz (PTX1 + PTX2 dfz) exp(-PTX3 dfz)
+    R0/Fz0 LSGKP, σα = PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0 LFZO LSGAL (the forms of
+    OpenTirePython's PAC2002, MIT; not checked against the MSC Adams manual)."""
+    if tyre.form != "PAC2002" or not (tyre.PTX1 or tyre.PTY1):
+        return None
+    fz0 = tyre.FNOMIN * tyre.LFZO
+    dfz = (fz - fz0) / fz0
+    r0 = tyre.UNLOADED_RADIUS
+    sigma_kappa = (fz * (tyre.PTX1 + tyre.PTX2 * dfz) * math.exp(-tyre.PTX3 * dfz)
+                   * (r0 / tyre.FNOMIN) * tyre.LSGKP)
+    sigma_alpha = (tyre.PTY1 * math.sin(2.0 * math.atan(fz / (tyre.PTY2 * fz0))) * r0
+                   * tyre.LFZO * tyre.LSGAL)
+    return sigma_kappa, sigma_alpha

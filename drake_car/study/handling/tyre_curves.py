@@ -12,7 +12,7 @@ import math
 import matplotlib
 import numpy as np
 
-from drake_car.law.tyre.magic_formula import magic_formula
+from drake_car.law.tyre.magic_formula import magic_formula, relaxation_lengths_m
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -62,21 +62,6 @@ def stiffness_against_load(tyre, n=40):
             np.array([f.cornering_stiffness for f in forces]))
 
 
-def relaxation_lengths_m(tyre, fz):
-    """PAC2002's σκ, σα (MSC Adams PAC2002; Pacejka 2002, 1st ed., 8.3) from the file's PTX*,
-    PTY* at load ``fz`` and zero camber, or None when the file has none."""
-    if tyre.form != "PAC2002" or not (tyre.PTX1 or tyre.PTY1):
-        return None
-    fz0 = tyre.FNOMIN * tyre.LFZO
-    dfz = (fz - fz0) / fz0
-    r0 = tyre.UNLOADED_RADIUS
-    sigma_kappa = (fz * (tyre.PTX1 + tyre.PTX2 * dfz) * math.exp(-tyre.PTX3 * dfz)
-                   * (r0 / tyre.FNOMIN) * tyre.LSGKP)
-    sigma_alpha = (tyre.PTY1 * math.sin(2.0 * math.atan(fz / (tyre.PTY2 * fz0))) * r0
-                   * tyre.LFZO * tyre.LSGAL)
-    return sigma_kappa, sigma_alpha
-
-
 def summary(tyre, table):
     """The summary's text: format read, peak μ, stiffnesses at FNOMIN, defaults, warnings."""
     lines = [f"tyre property file: {tyre.name}",
@@ -103,7 +88,8 @@ def summary(tyre, table):
     sigma = relaxation_lengths_m(tyre, tyre.FNOMIN)
     if sigma:
         lines.append(f"relaxation lengths at FNOMIN from PTX*/PTY*: sigma_kappa "
-                     f"{sigma[0]:.3f} m, sigma_alpha {sigma[1]:.3f} m")
+                     f"{sigma[0]:.3f} m, sigma_alpha {sigma[1]:.3f} m (the car uses them with "
+                     "tyres.slip.relaxation_lengths_from_file, at its wheel load at rest)")
     lines.append("coefficients defaulted (absent from the file; 0, scaling factors 1, PKY4 2, "
                  f"QSY7 1): {', '.join(tyre.defaulted) if tyre.defaulted else 'none'}")
     if tyre.RBX1 == 0.0 or tyre.RBY1 == 0.0:
@@ -149,9 +135,9 @@ def figures(tyre, table, out):
     nominal = min(loads, key=lambda fz: abs(fz - tyre.FNOMIN))
     for i, alpha in enumerate(sorted(set(table["alpha_rad"][case == "combined"]))):
         sel = (case == "combined") & (table["fz_N"] == nominal) & (table["alpha_rad"] == alpha)
-        ax.plot(table["fy_N"][sel], table["fx_N"][sel], color=f"C{i}",
+        ax.plot(table["fy_N"][sel] / 1e3, table["fx_N"][sel] / 1e3, color=f"C{i}",
                 label=f"α {math.degrees(alpha):.0f}°, κ swept")
-    ax.set(xlabel="Fy (N)", ylabel="Fx (N)", title=f"combined slip at Fz {nominal:.0f} N")
+    ax.set(xlabel="Fy (kN)", ylabel="Fx (kN)", title=f"combined slip at Fz {nominal:.0f} N")
     ax.axis("equal")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)
