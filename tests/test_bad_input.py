@@ -16,6 +16,7 @@ import pytest
 
 from drake_car import cli
 from drake_car import run as run_command
+from drake_car.tyre import __main__ as tyre_command
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "experiments"))
@@ -30,6 +31,9 @@ import settle  # noqa: E402
 import suspension_kinematics  # noqa: E402
 
 TIR = (ROOT / "urdf" / "tyres" / "pacejka2006_205_60R15.tir").read_text()
+TYRE_DATA = Path(__file__).parent / "data" / "tyres"
+SEDAN = (TYRE_DATA / "Sedan_Pac02Tire.tir").read_text()
+MF61 = (TYRE_DATA / "MagicFormula61_Parameters.tir").read_text()
 RUN = ["--scene", "scenes/paper_study.yaml:a_1"]
 
 
@@ -129,6 +133,37 @@ CASES = [
      "UNLOADED_RADIUS"),
     ("a coefficient of 1e300", run_command.main,
      lambda t: scene_text(tyre(tir_file(t, TIR.replace("= -14.95", "= -1.0e300")))), "bad.tir"),
+    ("MF-Swift .tir", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("'PAC2002'", "'MF-SWIFT'")))),
+     "bad.tir: PROPERTY_FILE_FORMAT 'MF-SWIFT' is a tyre model drake_car does not implement"),
+    ("MF_05 .tir by FITTYP", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, MF61.replace("=    61 ", "=    5 ")))),
+     "bad.tir:14: FITTYP = 5 is a Magic Formula version drake_car does not implement"),
+    ("unknown unit in [UNITS]", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("'meter'", "'furlong'")))),
+     "bad.tir:5: [UNITS] LENGTH = 'furlong'"),
+    ("bad [SHAPE] table row", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("1.0    0.4", "1.0    wide")))),
+     "bad.tir:32: cannot read line '1.0 wide' in table [SHAPE]"),
+    ("coefficient in two sections", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, SEDAN.replace("[LONGITUDINAL_COEFFICIENTS]",
+                                                         "[LONGITUDINAL_COEFFICIENTS]\nPKY1 = 1")))),
+     "PKY1 is given twice (in [LONGITUDINAL_COEFFICIENTS] and [LATERAL_COEFFICIENTS])"),
+    ("MF 6.1 range reversed", run_command.main,
+     lambda t: scene_text(tyre(tir_file(t, MF61.replace("=    18000 ", "=    -1 ")))),
+     "bad.tir:110: FZMAX = -1 is below FZMIN = 0"),
+    ("a truck's tyre on the car", run_command.main,
+     lambda t: scene_text(tyre(TYRE_DATA / "335_65R22_5_G275MSA_60psi.tir")),
+     "is valid for wheel loads 10752..30578 N"),
+    ("relaxation lengths from an MF 6.1 file", run_command.main,
+     lambda t: scene_text(f"tyres: !MagicFormula {{tir_file: {TYRE_DATA}/MagicFormula61_"
+                          "Parameters.tir, slip: {relaxation_lengths_from_file: true}}"),
+     "MagicFormula61_Parameters.tir (MF 6.1) has no PTX*/PTY* relaxation coefficients"),
+    ("tyre command: unsupported format", tyre_command.main,
+     lambda t: ["--tir", tir_file(t, SEDAN.replace("'PAC2002'", "'FTIRE'"))],
+     "bad.tir: PROPERTY_FILE_FORMAT 'FTIRE' is a tyre model drake_car does not implement"),
+    ("tyre command: missing file", tyre_command.main,
+     lambda t: ["--tir", t / "nowhere.tir"], "nowhere.tir: tyre property file not found"),
     ("a binary .tir", run_command.main,
      lambda t: scene_text(tyre(tir_file(t, "", binary=True))), "not a text file"),
     ("a missing .tir", run_command.main,

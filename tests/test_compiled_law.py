@@ -2,6 +2,8 @@
 relative): the Magic Formula, the contact and slips, one tyre step of four wheels, the FRD
 friction law and one friction step, the tree kinematics against Drake's."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
@@ -9,6 +11,7 @@ from numpy.testing import assert_allclose
 from drake_car.data import resource
 from drake_car.law.friction import compiled as fc
 from drake_car.law.tyre import compiled as tc
+from drake_car.law.tyre import packing as tp
 from drake_car.law.friction.frd import (
     KINETIC, STATIC, FrictionPairLaw, StrutFrictionParameters, advance_creep, beta,
     friction_coefficient, friction_force, friction_moment, mu1, mu_kinetic, normal_force,
@@ -21,7 +24,7 @@ from drake_car.law.tyre.slip import (
 
 RTOL = 1e-12
 TYRE = MagicFormulaTyre.from_file(str(resource("urdf/tyres/pacejka2006_205_60R15.tir")))
-COEFFICIENTS = tc.pack_coefficients(TYRE)
+COEFFICIENTS = tp.pack_coefficients(TYRE)
 RNG = np.random.default_rng(7)
 
 
@@ -36,15 +39,29 @@ def forces_tuple(f):
             f.pneumatic_trail)
 
 
+# Every form: the book's (the shipped file), PAC2002 (clipped to its ranges, and not), MF 6.1
+# at its own pressure and at another.
+TYRE_DATA = Path(__file__).parent / "data" / "tyres"
+TYRES = [TYRE, MagicFormulaTyre.from_file(TYRE_DATA / "Sedan_Pac02Tire.tir"),
+         MagicFormulaTyre.from_file(TYRE_DATA / "Sedan_Pac02Tire.tir", clip=False),
+         MagicFormulaTyre.from_file(TYRE_DATA / "335_65R22_5_G275MSA_60psi.tir"),
+         MagicFormulaTyre.from_file(TYRE_DATA / "MagicFormula61_Parameters.tir"),
+         MagicFormulaTyre.from_file(TYRE_DATA / "MagicFormula62_Parameters.tir",
+                                    pressure_Pa=3.1e5)]
+
+
 @pytest.mark.parametrize("combined", [True, False])
-def test_magic_formula(combined):
-    for _ in range(2000):
-        fz = RNG.choice([RNG.uniform(50.0, 12000.0), 0.0, -10.0])
+@pytest.mark.parametrize("tyre", TYRES, ids=lambda t: f"{t.form}-{Path(t.name).stem}")
+def test_magic_formula(combined, tyre):
+    packed = tp.pack_coefficients(tyre)
+    top = 3.0 * tyre.FNOMIN
+    for _ in range(1000):
+        fz = RNG.choice([RNG.uniform(0.01 * top, top), 0.0, -10.0])
         args = (fz, RNG.uniform(-1, 1), RNG.uniform(-0.6, 0.6), RNG.uniform(-0.2, 0.2),
                 RNG.uniform(-30, 30))
-        close(tc.magic_formula(COEFFICIENTS, *args, combined),
-              forces_tuple(magic_formula(TYRE, *args, combined)), scale=max(abs(fz), 1.0))
-        close(tc.linear_tyre(COEFFICIENTS, *args), forces_tuple(linear_tyre(TYRE, *args)),
+        close(tc.magic_formula(packed, *args, combined),
+              forces_tuple(magic_formula(tyre, *args, combined)), scale=max(abs(fz), 1.0))
+        close(tc.linear_tyre(packed, *args), forces_tuple(linear_tyre(tyre, *args)),
               scale=max(abs(fz), 1.0))
 
 
@@ -57,12 +74,12 @@ def test_relax_and_roads():
              SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01]),
              SampledProfile([0.0, 1.0, 3.0], [0.0, 0.01, -0.01], [0.0, -0.02, 0.005])]
     for road in roads:
-        packed = tc.pack_road(road.check())
+        packed = tp.pack_road(road.check())
         for x in np.concatenate([RNG.uniform(-1, 4, 200), [0.0, 1.0, 1.5, 3.0]]):
             for y in (0.7, 0.0, -1e-9, -0.7):  # both tracks and the line between them
                 close(tc.road_height(packed, x, y), road(x, y), scale=0.04)
     with pytest.raises(TypeError, match="compiled tyre knows"):
-        tc.pack_road(lambda x, y: 0.0)
+        tp.pack_road(lambda x, y: 0.0)
 
 
 def reference_tyre_step(frames, twists, relaxation, advance, radial, slip, road, mirror,
@@ -143,7 +160,7 @@ def test_tyre_step(case):
     road = CosineBump(-0.5, 1.5, 0.02) if case == "bump" else Flat()
     magic, linear, combined = case != "vertical", case == "linear", case != "pure"
     mirror = [1.0, -1.0, 1.0, -1.0]
-    config = tc.pack_config(radial, slip, magic=magic, linear=linear, combined=combined,
+    config = tp.pack_config(radial, slip, magic=magic, linear=linear, combined=combined,
                             relaxed=magic and slip.relaxation, max_load=1e9, time_step=1e-3,
                             mirror=mirror)
     wheels, driven, body = np.arange(4), np.array([0, 1]), 4
@@ -155,7 +172,7 @@ def test_tyre_step(case):
             wrenches, loads, diagnostics = np.zeros(4 * 6 + 2 + 3), np.zeros(8), np.zeros(36)
             compiled_relaxation = relaxation.copy()
             assert tc.tyre_step(frames, twists, wheels, compiled_relaxation, advance, config,
-                                COEFFICIENTS, tc.pack_road(road), torques, driven, body,
+                                COEFFICIENTS, tp.pack_road(road), torques, driven, body,
                                 wrenches, loads, diagnostics) == -1
             expected = reference_tyre_step(frames, twists, relaxation, advance, radial, slip,
                                            road, mirror, combined, linear, magic, 1e-3)
@@ -172,13 +189,13 @@ def test_tyre_step(case):
 
 
 def test_tyre_step_refuses_a_load_beyond_the_formula():
-    config = tc.pack_config(RadialTyre(0.3, 2.0e5, 300.0), SlipOptions(), magic=True,
+    config = tp.pack_config(RadialTyre(0.3, 2.0e5, 300.0), SlipOptions(), magic=True,
                             linear=False, combined=True, relaxed=True, max_load=1000.0,
                             time_step=1e-3, mirror=[1.0] * 4)
     frames, twists = random_wheels()
     frames[2, :, 3] = [0.0, 0.0, 0.2]  # 10 cm into the road: 20 kN
     assert tc.tyre_step(frames, twists, np.arange(4), np.zeros(8), True, config, COEFFICIENTS,
-                        tc.pack_road(Flat()), np.zeros(0), np.zeros(0, dtype=np.int64), -1,
+                        tp.pack_road(Flat()), np.zeros(0), np.zeros(0, dtype=np.int64), -1,
                         np.zeros(24), np.zeros(8), np.zeros(36)) in (0, 1, 2, 3)
 
 

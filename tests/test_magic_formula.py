@@ -93,11 +93,11 @@ def test_no_force_without_load_and_finite_at_standstill():
 
 
 def test_tir_round_trip(tmp_path):
-    values, sections = read_tir(DEFAULT_TIR)
+    tir = read_tir(DEFAULT_TIR)
     path = tmp_path / "copy.tir"
-    path.write_text(format_tir(values, sections, header="copy"))
-    again, again_sections = read_tir(path)
-    assert again == values and again_sections == sections
+    path.write_text(format_tir(tir, header="copy"))
+    again = read_tir(path)
+    assert again.sections == tir.sections and again.tables == tir.tables
     assert MagicFormulaTyre.from_file(path).coefficients == TYRE.coefficients
 
 
@@ -106,6 +106,10 @@ def test_tir_round_trip(tmp_path):
     ("[MODEL]\nLONGVL 16.7\n", r"copy.tir:2: cannot read line"),
     ("LONGVL = 16.7\n", r"copy.tir:1: entry LONGVL before any \[SECTION\]"),
     ("[MODEL]\nLONGVL = 1\nLONGVL = 2\n", r"copy.tir:3: LONGVL is given twice"),
+    ("[MODEL]\nLONGVL = 1\n[DIMENSION]\nLONGVL = 2\n",
+     r"copy.tir:4: LONGVL is given twice \(in \[MODEL\] and \[DIMENSION\]\)"),
+    ("[SHAPE]\n{radial width}\n1.0 0.0\n1.0 wide\n", r"copy.tir:4: cannot read line .*\[SHAPE\]"),
+    ("[UNITS]\nLENGTH = 'furlong'\n", r"copy.tir:2: \[UNITS\] LENGTH = 'furlong' is not a unit"),
     ("[MODEL]\nNAME = 'open\n", r"copy.tir:2: unterminated string"),
     ("[MODEL]\nLONGVL = nan\n", r"copy.tir:2: LONGVL = 'nan' is not finite"),
 ])
@@ -117,20 +121,23 @@ def test_malformed_tir_names_the_line(tmp_path, text, match):
 
 
 def test_tir_missing_coefficient_and_file(tmp_path):
-    values, sections = read_tir(DEFAULT_TIR)
-    del values["PKY1"]
+    tir = read_tir(DEFAULT_TIR)
+    del tir.sections["LATERAL_COEFFICIENTS"]["PKY1"]
     path = tmp_path / "short.tir"
-    path.write_text(format_tir(values, sections))
+    path.write_text(format_tir(tir))
     with pytest.raises(TirFileError, match=r"short.tir: missing .*PKY1"):
         MagicFormulaTyre.from_file(path)
     with pytest.raises(TirFileError, match="nowhere.tir: tyre property file not found"):
         MagicFormulaTyre.from_file(tmp_path / "nowhere.tir")
-    assert set(REQUIRED) <= set(read_tir(DEFAULT_TIR)[0])
+    assert set(REQUIRED) <= set(read_tir(DEFAULT_TIR).coefficients())
 
 
 def test_comments_and_strings_parse():
-    values, _ = parse_tir("$ header\n[MODEL]\nNAME = 'a $ b' ! note\nLONGVL = 16.7 $ m/s\n")
-    assert values == {"NAME": "a $ b", "LONGVL": 16.7}
+    tir = parse_tir("$ header\n[MODEL]\nNAME = 'a $ b' ! note\nLONGVL = 16.7 $ m/s\n"
+                    "EMPTY =\n[UNITS]\nMASS = 'kg'\nLENGTH='mm'\n[INERTIA]\nMASS = 9.0\n"
+                    "[DIMENSION]\nUNLOADED_RADIUS = 313.0\n")
+    assert tir.coefficients() == {"NAME": "a $ b", "LONGVL": 16.7 * 1e-3, "MASS": 9.0,
+                                  "UNLOADED_RADIUS": 0.313}
 
 
 def test_linear_tyre_is_the_magic_formula_to_first_order():

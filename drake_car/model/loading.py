@@ -75,9 +75,13 @@ def frame_point(plant, name, instance):
 
 
 def tir_path(name):
-    """A tyre property file: an absolute path, or a path inside the package's ``urdf/`` data
-    (``tyres/pacejka2006_205_60R15.tir``)."""
+    """A tyre property file: an absolute path; or a path inside the package's ``urdf/`` data
+    (``tyres/pacejka2006_205_60R15.tir``); or, when no such data exists, a path relative to the
+    working folder (made absolute)."""
     path = Path(name)
     if path.is_absolute():
         return path
-    return Path(str(resource("urdf").joinpath(name)))
+    packaged = Path(str(resource("urdf").joinpath(name)))
+    if packaged.exists() or not path.exists():
+        return packaged
+    return path.absolute()

@@ -12,7 +12,7 @@ from pydrake.systems.primitives import (
     Adder, ConstantVectorSource, LogVectorOutput, MatrixGain, Multiplexer, PortSwitch,
     Saturation, TrajectorySource)
 
-from drake_car.law.tyre.magic_formula import MagicFormulaTyre
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre, relaxation_lengths_m
 from drake_car.law.tyre.contact import RadialTyre
 from drake_car.model.anti_roll_bar import anti_roll_bar_gain, time_step_limit_s
 from drake_car.model.car import add_car
@@ -205,14 +205,38 @@ def check_stability(scene):
             "friction.scheme: fast")
 
 
+def _check_tyre_load_range(tyre, plant):
+    """The car's wheel load at rest (its weight over four wheels) must lie inside the tyre
+    file's FZMIN..FZMAX: a tyre fitted for another vehicle (a truck's) is refused, naming both."""
+    weight_N = plant.CalcTotalMass(plant.CreateDefaultContext()) * 9.81
+    wheel_N = weight_N / 4.0
+    if not tyre.FZMIN <= wheel_N <= tyre.FZMAX:
+        raise BuildError(
+            f"tyres.tir_file: {tyre.name} is valid for wheel loads {tyre.FZMIN:g}.."
+            f"{tyre.FZMAX:g} N (FNOMIN {tyre.FNOMIN:g} N); this car rests on about "
+            f"{wheel_N:.0f} N per wheel ({weight_N:.0f} N over four) and runs at about "
+            f"0..{2 * wheel_N:.0f} N in a lane change: a tyre for a heavier vehicle")
+    return wheel_N
+
+
 def _add_tyres(builder, plant, car, scene, driveshafts):
     tyres = scene.tyres
     magic = None
     slip = getattr(tyres, "slip", None)
     if isinstance(tyres, (MagicFormula, LinearTyre)):
         magic = MagicFormulaTyre.from_file(tir_path(tyres.tir_file))
+        wheel_N = _check_tyre_load_range(magic, plant)
+        if slip is not None and slip.relaxation and slip.relaxation_lengths_from_file:
+            sigma = relaxation_lengths_m(magic, wheel_N)
+            if sigma is None:
+                raise BuildError(f"tyres.slip.relaxation_lengths_from_file: {magic.name} "
+                                 f"({magic.form}) has no PTX*/PTY* relaxation coefficients")
+            slip = dataclasses.replace(slip, relaxation_length_long_m=sigma[0],
+                                       relaxation_length_lat_m=sigma[1])
     v = scene.car.tyre
     kwargs = {} if slip is None else {"slip": slip}
+    if magic is not None:  # the file's data are of its TYRESIDE; the other side mirrored
+        kwargs["mirror_left"] = ("fr", "rr") if magic.side == "RIGHT" else ("fl", "rl")
     tyre = builder.AddSystem(TyreSystem(
         car.wheel_bodies(),
         RadialTyre(v.unloaded_radius_m, v.radial_stiffness_Npm, v.radial_damping_Nspm),

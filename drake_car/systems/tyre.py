@@ -11,7 +11,8 @@ from pydrake.systems.framework import LeafSystem
 
 from drake_car.law.tyre.magic_formula import magic_formula
 from drake_car.law.road.profiles import Flat
-from drake_car.law.tyre.compiled import pack_coefficients, pack_config, pack_road, tyre_step
+from drake_car.law.tyre.compiled import tyre_step
+from drake_car.law.tyre.packing import pack_coefficients, pack_config, pack_road
 from drake_car.law.tyre.contact import RadialTyre
 from drake_car.law.tyre.slip import SlipOptions
 from drake_car.systems.body_kinematics import BodyKinematics

@@ -7,11 +7,8 @@ Why: these run every step for four wheels, where Python's per-call cost dominate
 Formula for four wheels: 26 µs as scalar Python, about 2 µs compiled). Everything compiled lives
 in this one module: numba's on-disk cache (``cache=True``) is invalidated by a change of the
 file holding the function only, not of the functions it calls, so a compiled caller must not
-call into another module's compiled code.
-
-Arrays instead of objects: the tyre's coefficients are ``pack_coefficients(tyre)`` (indexed by
-``K``), the tyre system's settings ``pack_config(...)`` (indexed by ``C``), the road
-``pack_road(road)``.
+call into another module's compiled code. Arrays instead of objects (``law.tyre.packing``
+makes them): the coefficients (indexed by ``K``), the settings (by ``C``), the road.
 """
 
 import enum
@@ -20,24 +17,20 @@ import math
 import numba
 import numpy as np
 
-from drake_car.law.road.profiles import CosineBump, Flat, SampledProfile
 
-# The coefficients the compiled formula reads, by name (defined here, not imported, so that the
-# cached machine code and its indices come from one file).
-COEFFICIENTS = (
-    "UNLOADED_RADIUS", "FNOMIN", "LONGVL",
-    "PCX1", "PDX1", "PDX2", "PDX3", "PEX1", "PEX2", "PEX3", "PEX4", "PKX1", "PKX2", "PKX3",
-    "PHX1", "PHX2", "PVX1", "PVX2", "RBX1", "RBX2", "RBX3", "RCX1", "REX1", "REX2", "RHX1",
-    "PCY1", "PDY1", "PDY2", "PDY3", "PEY1", "PEY2", "PEY3", "PEY4", "PEY5", "PKY1", "PKY2",
-    "PKY3", "PKY4", "PKY5", "PKY6", "PKY7", "PHY1", "PHY2", "PVY1", "PVY2", "PVY3", "PVY4",
-    "RBY1", "RBY2", "RBY3", "RBY4", "RCY1", "REY1", "REY2", "RHY1", "RHY2", "RVY1", "RVY2",
-    "RVY3", "RVY4", "RVY5", "RVY6",
-    "QBZ1", "QBZ2", "QBZ3", "QBZ5", "QBZ6", "QBZ9", "QBZ10", "QCZ1", "QDZ1", "QDZ2", "QDZ3",
-    "QDZ4", "QDZ6", "QDZ7", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "QEZ1", "QEZ2", "QEZ3", "QEZ4",
-    "QEZ5", "QHZ1", "QHZ2", "QHZ3", "QHZ4", "SSZ1", "SSZ2", "SSZ3", "SSZ4",
-    "QSY1", "QSY2", "QSY3", "QSY4",
-    "LFZO", "LCX", "LMUX", "LEX", "LKX", "LHX", "LVX", "LCY", "LMUY", "LEY", "LKY", "LKYC",
-    "LKZC", "LHY", "LVY", "LTR", "LRES", "LXAL", "LYKA", "LVYKA", "LS", "LMY")
+# The coefficients the compiled formula reads (defined here, not imported: the cached code and
+# its indices come from one file).
+COEFFICIENTS = tuple("""
+    UNLOADED_RADIUS FNOMIN LONGVL PCX1 PDX1 PDX2 PDX3 PEX1 PEX2 PEX3 PEX4 PKX1 PKX2 PKX3 PHX1
+    PHX2 PVX1 PVX2 RBX1 RBX2 RBX3 RCX1 REX1 REX2 RHX1 PCY1 PDY1 PDY2 PDY3 PEY1 PEY2 PEY3 PEY4
+    PEY5 PKY1 PKY2 PKY3 PKY4 PKY5 PKY6 PKY7 PHY1 PHY2 PHY3 PVY1 PVY2 PVY3 PVY4 RBY1 RBY2 RBY3
+    RBY4 RCY1 REY1 REY2 RHY1 RHY2 RVY1 RVY2 RVY3 RVY4 RVY5 RVY6 QBZ1 QBZ2 QBZ3 QBZ4 QBZ5 QBZ6
+    QBZ9 QBZ10 QCZ1 QDZ1 QDZ2 QDZ3 QDZ4 QDZ6 QDZ7 QDZ8 QDZ9 QDZ10 QDZ11 QEZ1 QEZ2 QEZ3 QEZ4 QEZ5
+    QHZ1 QHZ2 QHZ3 QHZ4 SSZ1 SSZ2 SSZ3 SSZ4 QSY1 QSY2 QSY3 QSY4 QSY5 QSY6 QSY7 QSY8 PPX1 PPX2
+    PPX3 PPX4 PPY1 PPY2 PPY3 PPY4 PPY5 PPZ1 PPZ2 LFZO LCX LMUX LEX LKX LHX LVX LCY LMUY LEY LKY
+    LKYC LKZC LHY LVY LTR LRES LXAL LYKA LVYKA LS LMY LGAX LGAY LGAZ FORM DPI P_RATIO LMUX_S
+    LMUY_S FZ0_S CLIP FZMIN FZMAX KPUMIN KPUMAX ALPMIN ALPMAX CAMMIN CAMMAX
+""".split())  # the last 15: magic_formula.DERIVED
 K = enum.IntEnum("K", {name: i for i, name in enumerate(COEFFICIENTS)})
 # The tyre system's settings (``pack_config``); the flags are 0.0 or 1.0.
 C = enum.IntEnum("C", {name: i for i, name in enumerate((
@@ -48,34 +41,6 @@ FLAT, COSINE_BUMP, SAMPLED = 0.0, 1.0, 2.0
 # Per wheel and step: the force and moment in the wheel's frame, the diagnostics
 # (``systems.tyre.DIAGNOSTIC_FIELDS``).
 WRENCH_PER_WHEEL, DIAGNOSTICS_PER_WHEEL = 6, 9
-
-
-def pack_coefficients(tyre):
-    """A ``MagicFormulaTyre``'s coefficients as the array the compiled formula reads."""
-    return np.array([getattr(tyre, name) for name in COEFFICIENTS], dtype=float)
-
-
-def pack_config(radial_tyre, slip, *, magic, linear, combined, relaxed, max_load, time_step,
-                mirror):
-    values = (radial_tyre.unloaded_radius_m, radial_tyre.radial_stiffness_Npm,
-              radial_tyre.radial_damping_Nspm, magic, linear, combined, relaxed,
-              slip.relaxation_length_long_m, slip.relaxation_length_lat_m, slip.v_floor_mps,
-              slip.low_speed_mps, slip.low_speed_damping_Nspm, max_load, time_step, *mirror)
-    return np.array(values, dtype=float)
-
-
-def pack_road(road):
-    """[kind, parameters...]: Flat [0]; CosineBump [1, start, length, height]; SampledProfile
-    [2, n, x_1..x_n, z_1..z_n (y >= 0), z_1..z_n (y < 0)]."""
-    if isinstance(road, Flat):
-        return np.array([FLAT])
-    if isinstance(road, CosineBump):
-        return np.array([COSINE_BUMP, road.start_x_m, road.length_m, road.height_m], dtype=float)
-    if isinstance(road, SampledProfile):
-        return np.array([SAMPLED, len(road.x_m), *road.x_m, *road.z_m, *road.right_track()],
-                        dtype=float)
-    raise TypeError(f"the compiled tyre knows the roads Flat, CosineBump and SampledProfile, "
-                    f"not {type(road).__name__}")
 
 
 _jit = numba.njit(cache=True)
@@ -127,103 +92,157 @@ def _weight(b, c, e, x, shift):
 
 
 @_jit
+def _lateral(t, fz, dfz, fz0, a, gs, gy):
+    dpi = t[K.DPI]
+    if t[K.FORM] == 0.0:
+        ky = (t[K.PKY1] * fz0 * math.sin(t[K.PKY4] * math.atan(
+            fz / ((t[K.PKY2] + t[K.PKY5] * gs * gs) * fz0)))
+              / (1.0 + t[K.PKY3] * gs * gs) * t[K.LKY])
+        muy = (t[K.PDY1] + t[K.PDY2] * dfz) / (1.0 + t[K.PDY3] * gs * gs) * t[K.LMUY]
+    else:
+        ky = (t[K.PKY1] * fz0 * (1.0 + t[K.PPY1] * dpi) * (1.0 - t[K.PKY3] * abs(gy))
+              * math.sin(t[K.PKY4] * math.atan(fz / ((t[K.PKY2] + t[K.PKY5] * gy * gy)
+                                                  * (1.0 + t[K.PPY2] * dpi) * fz0))) * t[K.LKY])
+        muy = ((t[K.PDY1] + t[K.PDY2] * dfz) * (1.0 + t[K.PPY3] * dpi + t[K.PPY4] * dpi * dpi)
+               * (1.0 - t[K.PDY3] * gy * gy) * t[K.LMUY])
+    svyg = fz * (t[K.PVY3] + t[K.PVY4] * dfz) * gy * t[K.LKYC] * t[K.LMUY_S]
+    svy = fz * (t[K.PVY1] + t[K.PVY2] * dfz) * t[K.LVY] * t[K.LMUY_S] + svyg
+    shy = (t[K.PHY1] + t[K.PHY2] * dfz) * t[K.LHY]
+    if t[K.FORM] == 1.0:
+        shy += t[K.PHY3] * gy
+    else:
+        kyg = fz * (t[K.PKY6] + t[K.PKY7] * dfz) * (1.0 + t[K.PPY5] * dpi) * t[K.LKYC]
+        shy += (kyg * gs - svyg) / ky if ky != 0 else 0.0
+    ay = a + shy
+    cy = t[K.PCY1] * t[K.LCY]
+    dy = muy * fz
+    ey = _min1((t[K.PEY1] + t[K.PEY2] * dfz)
+             * (1.0 + t[K.PEY5] * gy * gy - (t[K.PEY3] + t[K.PEY4] * gy) * _sign(ay)) * t[K.LEY])
+    by = ky / (cy * dy) if cy * dy != 0 else 0.0
+    return _mf(by, cy, dy, ey, ay) + svy, ky, by, cy, muy, shy, svy
+
+
+@_jit
+def _rolling(t, fz, fx, gamma, vx):
+    v = vx / t[K.LONGVL]
+    bracket = t[K.QSY1] + t[K.QSY2] * fx / t[K.FZ0_S] + t[K.QSY3] * abs(v) + t[K.QSY4] * v ** 4.0
+    if t[K.FORM] == 2.0:
+        ratio = fz / t[K.FNOMIN]
+        my = (-t[K.UNLOADED_RADIUS] * t[K.FNOMIN] * t[K.LMY]
+              * (bracket + (t[K.QSY5] + t[K.QSY6] * ratio) * gamma * gamma)
+              * ratio ** t[K.QSY7] * t[K.P_RATIO] ** t[K.QSY8])
+    else:
+        my = -t[K.UNLOADED_RADIUS] * fz * bracket * t[K.LMY]
+    return my * math.tanh(vx / 0.1)  # smooth sign through standstill
+
+
+@_jit
 def magic_formula(t, fz, kappa, alpha, gamma, vx, combined):
-    """``law.tyre.magic_formula.magic_formula`` on packed coefficients ``t``: returns (fx, fy, mz,
-    my, fx0, fy0, cornering_stiffness, slip_stiffness, pneumatic_trail)."""
+    """``magic_formula.magic_formula`` on packed coefficients ``t``: returns (fx, fy, mz, my,
+    fx0, fy0, cornering_stiffness, slip_stiffness, pneumatic_trail)."""
+    if t[K.CLIP] != 0.0:
+        fz = min(fz, t[K.FZMAX])
+        kappa = min(max(kappa, t[K.KPUMIN]), t[K.KPUMAX])
+        alpha = min(max(alpha, t[K.ALPMIN]), t[K.ALPMAX])
+        gamma = min(max(gamma, t[K.CAMMIN]), t[K.CAMMAX])
     if fz <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     fz0 = t[K.FNOMIN] * t[K.LFZO]
     dfz = (fz - fz0) / fz0
-    r0 = t[K.UNLOADED_RADIUS]
-    gs = math.sin(gamma)
-    # Longitudinal, pure slip.
+    r0, dpi, form = t[K.UNLOADED_RADIUS], t[K.DPI], t[K.FORM]
+    gs = math.sin(gamma)  # γ*
+    a = alpha if form == 0.0 else math.tan(alpha)  # α* (4.E3)
+    if form == 1.0:
+        gx, gy, gz = gs * t[K.LGAX], gs * t[K.LGAY], gs * t[K.LGAZ]
+    else:
+        gx, gy, gz = (gamma if form == 0.0 else gs), gs, gs
+
+    # Longitudinal, pure slip (4.E9-4.E18).
     shx = (t[K.PHX1] + t[K.PHX2] * dfz) * t[K.LHX]
     kx_ = kappa + shx
     cx = t[K.PCX1] * t[K.LCX]
-    mux = (t[K.PDX1] + t[K.PDX2] * dfz) * (1.0 - t[K.PDX3] * gamma * gamma) * t[K.LMUX]
+    mux = ((t[K.PDX1] + t[K.PDX2] * dfz) * (1.0 + t[K.PPX3] * dpi + t[K.PPX4] * dpi * dpi)
+           * (1.0 - t[K.PDX3] * gx * gx) * t[K.LMUX])
     dx = mux * fz
     ex = _min1((t[K.PEX1] + t[K.PEX2] * dfz + t[K.PEX3] * dfz * dfz)
-               * (1.0 - t[K.PEX4] * _sign(kx_)) * t[K.LEX])
-    kx = fz * (t[K.PKX1] + t[K.PKX2] * dfz) * math.exp(t[K.PKX3] * dfz) * t[K.LKX]
+             * (1.0 - t[K.PEX4] * _sign(kx_)) * t[K.LEX])
+    kx = (fz * (t[K.PKX1] + t[K.PKX2] * dfz) * math.exp(t[K.PKX3] * dfz)
+          * (1.0 + t[K.PPX1] * dpi + t[K.PPX2] * dpi * dpi) * t[K.LKX])
     bx = kx / (cx * dx) if cx * dx != 0 else 0.0
-    svx = fz * (t[K.PVX1] + t[K.PVX2] * dfz) * t[K.LVX] * t[K.LMUX]
+    svx = fz * (t[K.PVX1] + t[K.PVX2] * dfz) * t[K.LVX] * t[K.LMUX_S]
     fx0 = _mf(bx, cx, dx, ex, kx_) + svx
-    # Lateral, pure slip.
-    ky = (t[K.PKY1] * fz0 * math.sin(t[K.PKY4] * math.atan(
-        fz / ((t[K.PKY2] + t[K.PKY5] * gs * gs) * fz0)))
-        / (1.0 + t[K.PKY3] * gs * gs) * t[K.LKY])
-    kyg = fz * (t[K.PKY6] + t[K.PKY7] * dfz) * t[K.LKYC]
-    svyg = fz * (t[K.PVY3] + t[K.PVY4] * dfz) * gs * t[K.LKYC] * t[K.LMUY]
-    svy = fz * (t[K.PVY1] + t[K.PVY2] * dfz) * t[K.LVY] * t[K.LMUY] + svyg
-    shy = (t[K.PHY1] + t[K.PHY2] * dfz) * t[K.LHY] + ((kyg * gs - svyg) / ky if ky != 0 else 0.0)
-    ay = alpha + shy
-    cy = t[K.PCY1] * t[K.LCY]
-    muy = (t[K.PDY1] + t[K.PDY2] * dfz) / (1.0 + t[K.PDY3] * gs * gs) * t[K.LMUY]
-    dy = muy * fz
-    ey = _min1((t[K.PEY1] + t[K.PEY2] * dfz)
-               * (1.0 + t[K.PEY5] * gs * gs - (t[K.PEY3] + t[K.PEY4] * gs) * _sign(ay))
-               * t[K.LEY])
-    by = ky / (cy * dy) if cy * dy != 0 else 0.0
-    fy0 = _mf(by, cy, dy, ey, ay) + svy
-    # Aligning moment, pure slip.
-    sht = t[K.QHZ1] + t[K.QHZ2] * dfz + (t[K.QHZ3] + t[K.QHZ4] * dfz) * gs
+
+    # Lateral, pure slip (4.E19-4.E30).
+    fy0, ky, by, cy, muy, shy, svy = _lateral(t, fz, dfz, fz0, a, gs, gy)
+    # MF 6.x's aligning moment takes the side force without camber (4.E74).
+    fy0_trail = _lateral(t, fz, dfz, fz0, a, 0.0, 0.0)[0] if form == 2.0 else fy0
+
+    # Aligning moment, pure slip (4.E31-4.E49).
+    sht = t[K.QHZ1] + t[K.QHZ2] * dfz + (t[K.QHZ3] + t[K.QHZ4] * dfz) * gz
     bt = ((t[K.QBZ1] + t[K.QBZ2] * dfz + t[K.QBZ3] * dfz * dfz)
-          * (1.0 + t[K.QBZ5] * abs(gs) + t[K.QBZ6] * gs * gs) * t[K.LKY] / t[K.LMUY])
+          * (1.0 + t[K.QBZ4] * gz + t[K.QBZ5] * abs(gz) + t[K.QBZ6] * gz * gz)
+          * t[K.LKY] / t[K.LMUY])
     ct = t[K.QCZ1]
-    dt = (fz * (t[K.QDZ1] + t[K.QDZ2] * dfz) * (1.0 + t[K.QDZ3] * abs(gs) + t[K.QDZ4] * gs * gs)
+    dt = (fz * (t[K.QDZ1] + t[K.QDZ2] * dfz) * (1.0 - t[K.PPZ1] * dpi)
+          * (1.0 + t[K.QDZ3] * (abs(gz) if form == 0.0 else gz) + t[K.QDZ4] * gz * gz)
           * (r0 / fz0) * t[K.LTR])
-    at = alpha + sht
+    at = a + sht
     et = _min1((t[K.QEZ1] + t[K.QEZ2] * dfz + t[K.QEZ3] * dfz * dfz)
-               * (1.0 + (t[K.QEZ4] + t[K.QEZ5] * gs) * (2.0 / math.pi)
-                  * math.atan(bt * ct * at)))
+             * (1.0 + (t[K.QEZ4] + t[K.QEZ5] * gz) * (2.0 / math.pi) * math.atan(bt * ct * at)))
     shf = shy + (svy / ky if ky != 0 else 0.0)
-    ar = alpha + shf
+    ar = a + shf
     br = t[K.QBZ9] * t[K.LKY] / t[K.LMUY] + t[K.QBZ10] * by * cy
-    cos_a = math.cos(alpha)
+    cos_a = math.cos(alpha)  # cos'α = V_cx/V_c
     dr = (fz * r0 * ((t[K.QDZ6] + t[K.QDZ7] * dfz) * t[K.LRES]
-                     + ((t[K.QDZ8] + t[K.QDZ9] * dfz) + (t[K.QDZ10] + t[K.QDZ11] * dfz)
-                        * abs(gs)) * gs * t[K.LKZC]) * t[K.LMUY] * cos_a)
+                     + ((t[K.QDZ8] + t[K.QDZ9] * dfz) * (1.0 + t[K.PPZ2] * dpi)
+                        + (t[K.QDZ10] + t[K.QDZ11] * dfz) * abs(gz)) * gz * t[K.LKZC])
+          * t[K.LMUY] * cos_a)
+
     if combined:
+        # Combined slip (4.E50-4.E67).
         bxa = ((t[K.RBX1] + t[K.RBX3] * gs * gs) * math.cos(math.atan(t[K.RBX2] * kappa))
                * t[K.LXAL])
         exa = _min1(t[K.REX1] + t[K.REX2] * dfz)
-        fx = _weight(bxa, t[K.RCX1], exa, alpha, t[K.RHX1]) * fx0
+        fx = _weight(bxa, t[K.RCX1], exa, a, t[K.RHX1]) * fx0
         shyk = t[K.RHY1] + t[K.RHY2] * dfz
-        byk = ((t[K.RBY1] + t[K.RBY4] * gs * gs)
-               * math.cos(math.atan(t[K.RBY2] * (alpha - t[K.RBY3]))) * t[K.LYKA])
+        byk = ((t[K.RBY1] + t[K.RBY4] * gs * gs) * math.cos(math.atan(t[K.RBY2] * (a - t[K.RBY3])))
+               * t[K.LYKA])
         eyk = _min1(t[K.REY1] + t[K.REY2] * dfz)
-        dvyk = (muy * fz * (t[K.RVY1] + t[K.RVY2] * dfz + t[K.RVY3] * gs)
-                * math.cos(math.atan(t[K.RVY4] * alpha)))
+        dvyk = (muy * fz * (t[K.RVY1] + t[K.RVY2] * dfz + t[K.RVY3] * gy)
+                * math.cos(math.atan(t[K.RVY4] * a)))
         svyk = dvyk * math.sin(t[K.RVY5] * math.atan(t[K.RVY6] * kappa)) * t[K.LVYKA]
-        fy = _weight(byk, t[K.RCY1], eyk, kappa, shyk) * fy0 + svyk
+        gyk = _weight(byk, t[K.RCY1], eyk, kappa, shyk)
+        fy = gyk * fy0 + svyk
         ratio = (kx / ky) if ky != 0 else 0.0
-        at_eq = math.sqrt(at * at + (ratio * kappa) ** 2.0) * _sign(at)
-        ar_eq = math.sqrt(ar * ar + (ratio * kappa) ** 2.0) * _sign(ar)
+        if form == 0.0:  # the book's 4.E77-4.E78
+            at_eq = math.sqrt(at * at + (ratio * kappa) ** 2.0) * _sign(at)
+            ar_eq = math.sqrt(ar * ar + (ratio * kappa) ** 2.0) * _sign(ar)
+        else:  # the TNO solver's (Besselink et al. 2010, A54)
+            at_eq = math.atan(math.sqrt(math.tan(at) ** 2 + (ratio * kappa) ** 2.0)) * _sign(at)
+            ar_eq = math.atan(math.sqrt(math.tan(ar) ** 2 + (ratio * kappa) ** 2.0)) * _sign(ar)
         trail = _mf_cos(bt, ct, dt, et, at_eq) * cos_a
         mzr = dr * math.cos(math.atan(br * ar_eq))
-        s = (t[K.SSZ1] + t[K.SSZ2] * (fy / fz0) + (t[K.SSZ3] + t[K.SSZ4] * dfz) * gs) * r0 * t[K.LS]
-        mz = -trail * (fy - svyk) + mzr + s * fx
+        s = ((t[K.SSZ1] + t[K.SSZ2] * (fy / t[K.FZ0_S]) + (t[K.SSZ3] + t[K.SSZ4] * dfz) * gz)
+             * r0 * t[K.LS])
+        mz = -trail * gyk * fy0_trail + mzr + s * fx
     else:
         fx, fy = fx0, fy0
         trail = _mf_cos(bt, ct, dt, et, at) * cos_a
-        mz = -trail * fy0 + dr * math.cos(math.atan(br * ar))
-    v = vx / t[K.LONGVL]
-    my = (-r0 * fz * (t[K.QSY1] + t[K.QSY2] * fx / fz0 + t[K.QSY3] * abs(v) + t[K.QSY4] * v ** 4.0)
-          * t[K.LMY])
-    my *= math.tanh(vx / 0.1)
+        mz = -trail * fy0_trail + dr * math.cos(math.atan(br * ar))
+    my = _rolling(t, fz, fx, gamma, vx)
     return fx, fy, mz, my, fx0, fy0, ky, kx, trail
 
 
 @_jit
 def linear_tyre(t, fz, kappa, alpha, gamma, vx):
-    """``law.tyre.magic_formula.linear_tyre`` on packed coefficients; returns as ``magic_formula``."""
+    """``magic_formula.linear_tyre`` on packed coefficients; returns as ``magic_formula``."""
+    if t[K.CLIP] != 0.0:
+        fz = min(fz, t[K.FZMAX])
+        gamma = min(max(gamma, t[K.CAMMIN]), t[K.CAMMAX])
     f = magic_formula(t, fz, 0.0, 0.0, gamma, vx, False)
     fx = f[0] + f[7] * kappa
     fy = f[1] + f[6] * alpha
-    my = f[3]
-    if fz > 0.0:
-        my += (-t[K.UNLOADED_RADIUS] * fz * t[K.QSY2] * (fx - f[0]) / (t[K.FNOMIN] * t[K.LFZO])
-               * t[K.LMY] * math.tanh(vx / 0.1))
+    my = _rolling(t, fz, fx, gamma, vx) if fz > 0.0 else 0.0
     mz = f[2] - f[8] * f[6] * alpha
     return fx, fy, mz, my, fx, fy, f[6], f[7], f[8]
 

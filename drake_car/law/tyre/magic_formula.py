@@ -1,132 +1,141 @@
-"""Pacejka's Magic Formula as in H. B. Pacejka, Tyre and Vehicle Dynamics, 2nd ed. (2006),
-section 4.3.2 (steady state, eqs. 4.E1-4.E71), with the coefficient names of the .tir format.
-Pure Python. The lateral and aligning camber terms follow the book (Kyγ via PKY6/PKY7, μy and
-Kyα divided by 1 + P·γ*²), which is what the book's Table A3.1 coefficients were fitted to;
-at zero camber this is the PAC2002 (MF 5.2) formula.
+"""Pacejka's Magic Formula, steady state, in the form the tyre's property file asks for
+(``law.tyre.formats``): the book's 2006 form (H. B. Pacejka, Tyre and Vehicle Dynamics, 2nd
+ed. 2006, section 4.3.2, eqs. 4.E1-4.E71: the file drake_car ships), PAC2002 (MF 5.2, MSC
+Adams/Tire) and MF 6.1/6.2 (TNO; Pacejka and Besselink, 3rd ed. 2012, 4.E1-4.E78, with the
+inflation-pressure terms). Pure Python; ``law.tyre.compiled`` is its numba twin.
+
+Where the forms differ (``FORM``: 0 book, 1 PAC2002, 2 MF 6.x):
+- slip angle: the book's α; PAC2002 and MF 6.x use α* = tan α (4.E3) in every slip term;
+- camber: the book divides μy and Kyα by 1 + P·γ*² and shifts Fy by Kyγ (PKY6/PKY7);
+  PAC2002 multiplies by (1 - PDY3 γy²), (1 - PKY3 |γy|), shifts by PHY3 γy, uses QBZ4 and
+  QDZ3 γz, with γx,y,z = γ* LGAX,Y,Z; MF 6.x multiplies as PAC2002 but shifts by Kyγ as the
+  book, and its aligning moment takes the side force without camber (4.E74, as the TNO solver);
+- MF 6.x's pressure terms with dpi = (p - NOMPRES)/NOMPRES; its rolling resistance
+  Fz0 R0 (...) (Fz/Fz0)^QSY7 (p/p0)^QSY8 (4.E70, 3rd ed.).
+Inputs are clipped to the file's ranges (FZMAX, KPUMIN..KPUMAX, ALPMIN..ALPMAX, CAMMIN..CAMMAX)
+when ``CLIP`` (as Adams does); a file without ranges is not clipped.
 
 Conventions (ISO W-axis, as the coefficients expect): x along the wheel heading, y to its left,
 z up. Longitudinal slip κ = -V_sx/|V_cx| (positive when driving); slip angle α with
 tan α = V_cy/|V_cx| (positive when the wheel moves to its left; the force is then negative);
 inclination γ: rotation of the wheel about its x axis (positive: top leaning to the right);
-γ* = sin γ. Forces in N, moments in N m, Fz > 0 pressing the tyre on the road.
+γ* = sin γ. Forces in N, moments in N m, Fz > 0 pressing the tyre on the road. The data are
+of a tyre on the file's TYRESIDE; the tyre system mirrors them for the other side.
 """
 
 import dataclasses
 import math
 
-from drake_car.law.tyre.tir import TirFileError, read_tir
+from drake_car.law.tyre import formats
+from drake_car.law.tyre.plausibility import check_forces
+from drake_car.law.tyre.property_file import TirFileError
+from drake_car.law.tyre.tir import read_tir
 
-# Coefficients that the book's Table A3.1 lists; the .tir must give them all.
-REQUIRED = (
-    "UNLOADED_RADIUS", "FNOMIN", "LONGVL",
-    "PCX1", "PDX1", "PDX2", "PDX3", "PEX1", "PEX2", "PEX3", "PEX4", "PKX1", "PKX2", "PKX3",
-    "PHX1", "PHX2", "PVX1", "PVX2", "RBX1", "RBX2", "RCX1", "REX1", "REX2", "RHX1",
-    "PCY1", "PDY1", "PDY2", "PDY3", "PEY1", "PEY2", "PEY3", "PEY4", "PKY1", "PKY2", "PKY3",
-    "PHY1", "PHY2", "PHY3", "PVY1", "PVY2", "PVY3", "PVY4", "RBY1", "RBY2", "RBY3", "RCY1",
-    "REY1", "REY2", "RHY1", "RHY2", "RVY1", "RVY2", "RVY3", "RVY4", "RVY5", "RVY6",
-    "QBZ1", "QBZ2", "QBZ3", "QBZ5", "QBZ9", "QBZ10", "QCZ1", "QDZ1", "QDZ2", "QDZ3",
-    "QDZ4", "QDZ6", "QDZ7", "QDZ8", "QDZ9", "QEZ1", "QEZ2", "QEZ3", "QEZ4", "QEZ5", "QHZ1",
-    "QHZ2", "QHZ3", "QHZ4", "SSZ1", "SSZ2", "SSZ3", "SSZ4", "QSY1", "QSY2", "QSY3", "QSY4")
-# Coefficients of the book's formulas that may be absent (value when absent).
-OPTIONAL = {"PKY4": 2.0, "PKY5": 0.0, "PKY6": 0.0, "PKY7": 0.0, "PEY5": 0.0, "RBX3": 0.0,
-            "RBY4": 0.0, "QBZ6": 0.0, "QDZ10": 0.0, "QDZ11": 0.0}
-# |F|/Fz above this is no road tyre (racing slicks reach about 1.8).
-MAX_FRICTION_COEFFICIENT = 2.5
-# Slip and cornering stiffness per unit load above this is no road tyre (they have 5-40 /rad).
-MAX_STIFFNESS_PER_LOAD = 200.0
-SCALING = ("LFZO", "LCX", "LMUX", "LEX", "LKX", "LHX", "LVX", "LCY", "LMUY", "LEY",
-           "LKY", "LKYC", "LKZC", "LHY", "LVY", "LTR", "LRES", "LXAL", "LYKA", "LVYKA", "LS",
-           "LMY")
+# The book form's required coefficients (kept under this name for its callers).
+REQUIRED = formats.BOOK_REQUIRED
+# Numbers the formula reads besides the coefficients: the form's code, the inflation
+# pressure's dpi and p/p0, the shift scalings λμ' (4.E8), Fz0 of the scrub and rolling
+# resistance terms, the clip flag and the ranges.
+DERIVED = ("FORM", "DPI", "P_RATIO", "LMUX_S", "LMUY_S", "FZ0_S", "CLIP") + formats.RANGES
+_NO_RANGE = {"FZMIN": 0.0, "FZMAX": math.inf, "KPUMIN": -math.inf, "KPUMAX": math.inf,
+             "ALPMIN": -math.pi / 2, "ALPMAX": math.pi / 2, "CAMMIN": -math.pi / 2,
+             "CAMMAX": math.pi / 2}
 
 
 @dataclasses.dataclass(frozen=True)
 class MagicFormulaTyre:
-    """Coefficients of one tyre: a {KEY: float} mapping as read from a .tir file."""
+    """One tyre: ``coefficients`` {KEY: value} as read from a .tir file (the book form unless
+    ``form`` says otherwise), at inflation pressure ``pressure_Pa`` (MF 6.x; default the
+    file's INFLPRES), inputs clipped to the file's ranges when ``clip``. After construction:
+    ``defaulted`` (the coefficients the form reads that took defaults), ``side`` (TYRESIDE),
+    ``format_note`` (how the form was chosen), ``warnings`` (the plausibility check's findings
+    outside the nominal load)."""
 
     coefficients: dict
     name: str = "<tyre>"
+    form: str = formats.BOOK
+    pressure_Pa: float | None = None
+    clip: bool = True
+    side: str = "LEFT"
+    format_note: str = ""
+    location: object = None  # key -> "file:line" for messages
 
     def __post_init__(self):
-        missing = [k for k in REQUIRED if k not in self.coefficients]
-        if missing:
-            raise TirFileError(f"{self.name}: missing Magic Formula coefficients {missing}")
-        for key in REQUIRED + tuple(k for k in SCALING if k in self.coefficients):
-            if isinstance(self.coefficients[key], str):
-                raise TirFileError(f"{self.name}: {key} must be a number")
+        where = self.location or (lambda key: self.name)
+        values, defaulted = formats.effective(self.coefficients, self.form, self.name, where)
+        object.__setattr__(self, "defaulted", defaulted)
         for key in ("UNLOADED_RADIUS", "FNOMIN", "LONGVL"):
-            if not self.coefficients[key] > 0:
-                raise TirFileError(f"{self.name}: {key} = {self.coefficients[key]} must be > 0")
-        if not 0.1 <= self.coefficients["UNLOADED_RADIUS"] <= 2.0:
-            raise TirFileError(f"{self.name}: UNLOADED_RADIUS = "
-                               f"{self.coefficients['UNLOADED_RADIUS']} m must lie in [0.1, 2]")
-        # Coefficients as attributes (fast to read in the per-step formulas); scaling factors
-        # default to 1.
-        for key in SCALING:
-            object.__setattr__(self, key, float(self.coefficients.get(key, 1.0)))
-        for key, default in OPTIONAL.items():
-            object.__setattr__(self, key, float(self.coefficients.get(key, default)))
-        for key in REQUIRED:
-            object.__setattr__(self, key, float(self.coefficients[key]))
+            if not values[key] > 0:
+                raise TirFileError(f"{where(key)}: {key} = {values[key]} must be > 0")
+        if not 0.1 <= values["UNLOADED_RADIUS"] <= 2.0:
+            raise TirFileError(f"{where('UNLOADED_RADIUS')}: UNLOADED_RADIUS = "
+                               f"{values['UNLOADED_RADIUS']} m must lie in [0.1, 2]")
+        for key, value in values.items():  # coefficients as attributes (fast to read)
+            object.__setattr__(self, key, value)
+        self._derive(values, where)
+        object.__setattr__(self, "warnings", ())
+        object.__setattr__(self, "warnings", check_forces(self, magic_formula))
 
-        self._check_forces()
+    def _derive(self, values, where):
+        mf6 = self.form in (formats.MF61, formats.MF62)
+        fz0_scaled = values["FNOMIN"] * values["LFZO"]
+        ranges = {k: values.get(k, _NO_RANGE[k]) for k in formats.RANGES}
+        for low, high in (("FZMIN", "FZMAX"), ("KPUMIN", "KPUMAX"), ("ALPMIN", "ALPMAX"),
+                          ("CAMMIN", "CAMMAX")):
+            if ranges[low] > ranges[high]:
+                raise TirFileError(f"{where(high)}: {high} = {ranges[high]:g} is below "
+                                   f"{low} = {ranges[low]:g}")
+        dpi, p_ratio = 0.0, 1.0
+        if mf6:
+            nominal = values.get("NOMPRES")
+            pressure = self.pressure_Pa if self.pressure_Pa is not None else values.get(
+                "INFLPRES", nominal)
+            if nominal is not None and pressure is not None:
+                if not (nominal > 0 and pressure > 0):
+                    raise TirFileError(f"{where('NOMPRES')}: NOMPRES and INFLPRES must be > 0")
+                dpi, p_ratio = (pressure - nominal) / nominal, pressure / nominal
+            elif self.pressure_Pa is not None:
+                raise TirFileError(f"{self.name}: no NOMPRES; the pressure terms cannot be used")
 
-    def _check_forces(self):
-        """The coefficients must give a road tyre: over loads 0.25 ... 2 FNOMIN and slips up to
-        κ = ±1, α = ±30 deg, γ = ±10 deg the forces are finite, the friction coefficients
-        |F|/Fz stay below ``MAX_FRICTION_COEFFICIENT`` and the cornering and slip stiffnesses
-        have the signs of the ISO convention (Kyα < 0, Kx > 0). Catches a mistyped exponent
-        (1e300) before it reaches a simulation as a NaN."""
-        for key, scale in (("PCX1", "LCX"), ("PCY1", "LCY")):
-            shape_factor = self.coefficients[key] * getattr(self, scale)
-            if not 0 < shape_factor <= 3:
-                raise TirFileError(f"{self.name}: {key} = {self.coefficients[key]} gives the shape "
-                                   f"factor C = {shape_factor:.4g}; it must lie in (0, 3] "
-                                   "(Pacejka 2006: about 1.3-1.7 for a road tyre)")
-        for load_ratio in (0.25, 1.0, 2.0):
-            fz = load_ratio * self.FNOMIN
-            for kappa, alpha, gamma in ((0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (-1.0, 0.0, 0.0),
-                                        (0.0, 0.1, 0.0), (0.0, -0.5, 0.0), (0.2, 0.2, 0.17),
-                                        (-0.2, -0.2, -0.17)):
-                try:
-                    f = magic_formula(self, fz, kappa, alpha, gamma, 16.7)
-                except (ArithmeticError, ValueError) as e:
-                    raise TirFileError(f"{self.name}: the Magic Formula fails at Fz = {fz:g} N,"
-                                       f" κ = {kappa}, α = {alpha} rad: {e}") from None
-                values = (f.fx, f.fy, f.mz, f.my, f.cornering_stiffness, f.slip_stiffness)
-                if not all(math.isfinite(v) for v in values):
-                    raise TirFileError(f"{self.name}: the Magic Formula gives non-finite forces "
-                                       f"at Fz = {fz:g} N, κ = {kappa}, α = {alpha} rad "
-                                       "(a coefficient is out of range)")
-                ratio = max(abs(f.fx), abs(f.fy)) / fz
-                if ratio > MAX_FRICTION_COEFFICIENT:
-                    raise TirFileError(
-                        f"{self.name}: the Magic Formula gives |F|/Fz = {ratio:.3g} at Fz = "
-                        f"{fz:g} N, κ = {kappa}, α = {alpha} rad; a road tyre stays below "
-                        f"{MAX_FRICTION_COEFFICIENT} (a coefficient is out of range)")
-                if kappa == alpha == gamma == 0.0 and not (
-                        -MAX_STIFFNESS_PER_LOAD * fz < f.cornering_stiffness < 0
-                        < f.slip_stiffness < MAX_STIFFNESS_PER_LOAD * fz):
-                    raise TirFileError(
-                        f"{self.name}: at Fz = {fz:g} N the cornering stiffness "
-                        f"{f.cornering_stiffness:.4g} N/rad must lie in (-{MAX_STIFFNESS_PER_LOAD:g}"
-                        f" Fz, 0) and the slip stiffness {f.slip_stiffness:.4g} N in (0, "
-                        f"{MAX_STIFFNESS_PER_LOAD:g} Fz) (ISO signs: PKY1 < 0, PKX1 > 0; road "
-                        "tyres have 5-40 Fz)")
+        def degressive(scale):  # λμ' = Aμ λμ* / (1 + (Aμ - 1) λμ*), Aμ = 10 (4.E8)
+            return 10.0 * scale / (1.0 + 9.0 * scale) if mf6 else scale
+        derived = {"FORM": formats.FORM_CODE[self.form], "DPI": dpi, "P_RATIO": p_ratio,
+                   "LMUX_S": degressive(values["LMUX"]), "LMUY_S": degressive(values["LMUY"]),
+                   "FZ0_S": values["FNOMIN"] if mf6 else fz0_scaled,
+                   "CLIP": 1.0 if self.clip else 0.0, **ranges}
+        for key, value in derived.items():
+            object.__setattr__(self, key, float(value))
 
     @classmethod
-    def from_file(cls, path):
-        values, _ = read_tir(path)
-        return cls(values, str(path))
+    def from_file(cls, path, *, pressure_Pa=None, clip=True):
+        tir = read_tir(path)
+        form, note = formats.detect(tir)
+        side = tir.header("TYRESIDE")
+        side = side.strip().upper() if isinstance(side, str) else "LEFT"
+        return cls(tir.coefficients(), str(path), form, pressure_Pa, clip,
+                   side if side in ("LEFT", "RIGHT") else "LEFT",
+                   note + ("" if side in ("LEFT", "RIGHT") else
+                           f"; TYRESIDE '{side}' read as LEFT"), tir.where)
+
 
 
 def _sign(x):
     return 1.0 if x >= 0 else -1.0
 
 
+def _clip(x, low, high):
+    return low if x < low else (high if x > high else x)
+
+
 def _mf(b, c, d, e, x):
     """D sin(C atan(B x - E (B x - atan(B x))))."""
     bx = b * x
     return d * math.sin(c * math.atan(bx - e * (bx - math.atan(bx))))
+
+
+def _mf_cos(b, c, d, e, x):
+    bx = b * x
+    return d * math.cos(c * math.atan(bx - e * (bx - math.atan(bx))))
 
 
 def _weight(b, c, e, x, shift):
@@ -150,95 +159,145 @@ class TyreForces:
     pneumatic_trail: float = 0.0  # t (m) at this slip: Mz = -t Fy + Mzr
 
 
+def _lateral(t, fz, dfz, fz0, a, gs, gy):
+    """Pure-slip side force at α* = ``a``: (Fy0, Kyα, By, Cy, μy, SHy, SVy) (4.E19-4.E30)."""
+    dpi = t.DPI
+    if t.FORM == 0.0:
+        ky = (t.PKY1 * fz0 * math.sin(t.PKY4 * math.atan(fz / ((t.PKY2 + t.PKY5 * gs * gs)
+                                                               * fz0)))
+              / (1.0 + t.PKY3 * gs * gs) * t.LKY)
+        muy = (t.PDY1 + t.PDY2 * dfz) / (1.0 + t.PDY3 * gs * gs) * t.LMUY
+    else:
+        ky = (t.PKY1 * fz0 * (1.0 + t.PPY1 * dpi) * (1.0 - t.PKY3 * abs(gy))
+              * math.sin(t.PKY4 * math.atan(fz / ((t.PKY2 + t.PKY5 * gy * gy)
+                                                  * (1.0 + t.PPY2 * dpi) * fz0))) * t.LKY)
+        muy = ((t.PDY1 + t.PDY2 * dfz) * (1.0 + t.PPY3 * dpi + t.PPY4 * dpi * dpi)
+               * (1.0 - t.PDY3 * gy * gy) * t.LMUY)
+    svyg = fz * (t.PVY3 + t.PVY4 * dfz) * gy * t.LKYC * t.LMUY_S
+    svy = fz * (t.PVY1 + t.PVY2 * dfz) * t.LVY * t.LMUY_S + svyg
+    shy = (t.PHY1 + t.PHY2 * dfz) * t.LHY
+    if t.FORM == 1.0:
+        shy += t.PHY3 * gy
+    else:
+        kyg = fz * (t.PKY6 + t.PKY7 * dfz) * (1.0 + t.PPY5 * dpi) * t.LKYC
+        shy += (kyg * gs - svyg) / ky if ky != 0 else 0.0
+    ay = a + shy
+    cy = t.PCY1 * t.LCY
+    dy = muy * fz
+    ey = min(1.0, (t.PEY1 + t.PEY2 * dfz)
+             * (1.0 + t.PEY5 * gy * gy - (t.PEY3 + t.PEY4 * gy) * _sign(ay)) * t.LEY)
+    by = ky / (cy * dy) if cy * dy != 0 else 0.0
+    return _mf(by, cy, dy, ey, ay) + svy, ky, by, cy, muy, shy, svy
+
+
+def _rolling(t, fz, fx, gamma, vx):
+    """Rolling resistance moment My (4.E70), opposing the rolling direction."""
+    v = vx / t.LONGVL
+    bracket = t.QSY1 + t.QSY2 * fx / t.FZ0_S + t.QSY3 * abs(v) + t.QSY4 * v ** 4
+    if t.FORM == 2.0:
+        ratio = fz / t.FNOMIN
+        my = (-t.UNLOADED_RADIUS * t.FNOMIN * t.LMY
+              * (bracket + (t.QSY5 + t.QSY6 * ratio) * gamma * gamma)
+              * ratio ** t.QSY7 * t.P_RATIO ** t.QSY8)
+    else:
+        my = -t.UNLOADED_RADIUS * fz * bracket * t.LMY
+    return my * math.tanh(vx / 0.1)  # smooth sign through standstill
+
+
 def magic_formula(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx, combined=True):
     """Steady-state tyre forces for vertical load ``fz`` (N), longitudinal slip ``kappa``,
     slip angle ``alpha`` (rad), inclination ``gamma`` (rad), forward speed ``vx`` (m/s, for
     rolling resistance only). ``combined=False`` drops the combined-slip weighting.
     ``cornering_stiffness`` is Kyα (negative in the ISO convention: Fy ≈ Kyα·α)."""
+    if t.CLIP != 0.0:
+        fz = min(fz, t.FZMAX)
+        kappa = _clip(kappa, t.KPUMIN, t.KPUMAX)
+        alpha = _clip(alpha, t.ALPMIN, t.ALPMAX)
+        gamma = _clip(gamma, t.CAMMIN, t.CAMMAX)
     if fz <= 0.0:
         return TyreForces(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     fz0 = t.FNOMIN * t.LFZO
     dfz = (fz - fz0) / fz0
     r0 = t.UNLOADED_RADIUS
-
+    dpi = t.DPI
+    form = t.FORM
     gs = math.sin(gamma)  # γ*
+    a = alpha if form == 0.0 else math.tan(alpha)  # α* (4.E3)
+    if form == 1.0:
+        gx, gy, gz = gs * t.LGAX, gs * t.LGAY, gs * t.LGAZ
+    else:
+        gx, gy, gz = (gamma if form == 0.0 else gs), gs, gs
 
     # Longitudinal, pure slip (4.E9-4.E18).
     shx = (t.PHX1 + t.PHX2 * dfz) * t.LHX
     kx_ = kappa + shx
     cx = t.PCX1 * t.LCX
-    mux = (t.PDX1 + t.PDX2 * dfz) * (1.0 - t.PDX3 * gamma * gamma) * t.LMUX
+    mux = ((t.PDX1 + t.PDX2 * dfz) * (1.0 + t.PPX3 * dpi + t.PPX4 * dpi * dpi)
+           * (1.0 - t.PDX3 * gx * gx) * t.LMUX)
     dx = mux * fz
     ex = min(1.0, (t.PEX1 + t.PEX2 * dfz + t.PEX3 * dfz * dfz)
              * (1.0 - t.PEX4 * _sign(kx_)) * t.LEX)
-    kx = fz * (t.PKX1 + t.PKX2 * dfz) * math.exp(t.PKX3 * dfz) * t.LKX
+    kx = (fz * (t.PKX1 + t.PKX2 * dfz) * math.exp(t.PKX3 * dfz)
+          * (1.0 + t.PPX1 * dpi + t.PPX2 * dpi * dpi) * t.LKX)
     bx = kx / (cx * dx) if cx * dx != 0 else 0.0
-    svx = fz * (t.PVX1 + t.PVX2 * dfz) * t.LVX * t.LMUX
+    svx = fz * (t.PVX1 + t.PVX2 * dfz) * t.LVX * t.LMUX_S
     fx0 = _mf(bx, cx, dx, ex, kx_) + svx
 
     # Lateral, pure slip (4.E19-4.E30).
-    ky = (t.PKY1 * fz0 * math.sin(t.PKY4 * math.atan(fz / ((t.PKY2 + t.PKY5 * gs * gs) * fz0)))
-          / (1.0 + t.PKY3 * gs * gs) * t.LKY)
-    kyg = fz * (t.PKY6 + t.PKY7 * dfz) * t.LKYC
-    svyg = fz * (t.PVY3 + t.PVY4 * dfz) * gs * t.LKYC * t.LMUY
-    svy = fz * (t.PVY1 + t.PVY2 * dfz) * t.LVY * t.LMUY + svyg
-    shy = (t.PHY1 + t.PHY2 * dfz) * t.LHY + ((kyg * gs - svyg) / ky if ky != 0 else 0.0)
-    ay = alpha + shy
-    cy = t.PCY1 * t.LCY
-    muy = (t.PDY1 + t.PDY2 * dfz) / (1.0 + t.PDY3 * gs * gs) * t.LMUY
-    dy = muy * fz
-    ey = min(1.0, (t.PEY1 + t.PEY2 * dfz)
-             * (1.0 + t.PEY5 * gs * gs - (t.PEY3 + t.PEY4 * gs) * _sign(ay)) * t.LEY)
-    by = ky / (cy * dy) if cy * dy != 0 else 0.0
-    fy0 = _mf(by, cy, dy, ey, ay) + svy
+    fy0, ky, by, cy, muy, shy, svy = _lateral(t, fz, dfz, fz0, a, gs, gy)
+    # MF 6.x's aligning moment takes the side force without camber (4.E74).
+    fy0_trail = _lateral(t, fz, dfz, fz0, a, 0.0, 0.0)[0] if form == 2.0 else fy0
 
     # Aligning moment, pure slip (4.E31-4.E49).
-    sht = t.QHZ1 + t.QHZ2 * dfz + (t.QHZ3 + t.QHZ4 * dfz) * gs
+    sht = t.QHZ1 + t.QHZ2 * dfz + (t.QHZ3 + t.QHZ4 * dfz) * gz
     bt = ((t.QBZ1 + t.QBZ2 * dfz + t.QBZ3 * dfz * dfz)
-          * (1.0 + t.QBZ5 * abs(gs) + t.QBZ6 * gs * gs) * t.LKY / t.LMUY)
+          * (1.0 + t.QBZ4 * gz + t.QBZ5 * abs(gz) + t.QBZ6 * gz * gz) * t.LKY / t.LMUY)
     ct = t.QCZ1
-    dt = (fz * (t.QDZ1 + t.QDZ2 * dfz) * (1.0 + t.QDZ3 * abs(gs) + t.QDZ4 * gs * gs)
+    dt = (fz * (t.QDZ1 + t.QDZ2 * dfz) * (1.0 - t.PPZ1 * dpi)
+          * (1.0 + t.QDZ3 * (abs(gz) if form == 0.0 else gz) + t.QDZ4 * gz * gz)
           * (r0 / fz0) * t.LTR)
-    at = alpha + sht
+    at = a + sht
     et = min(1.0, (t.QEZ1 + t.QEZ2 * dfz + t.QEZ3 * dfz * dfz)
-             * (1.0 + (t.QEZ4 + t.QEZ5 * gs) * (2.0 / math.pi) * math.atan(bt * ct * at)))
+             * (1.0 + (t.QEZ4 + t.QEZ5 * gz) * (2.0 / math.pi) * math.atan(bt * ct * at)))
     shf = shy + (svy / ky if ky != 0 else 0.0)
-    ar = alpha + shf
+    ar = a + shf
     br = t.QBZ9 * t.LKY / t.LMUY + t.QBZ10 * by * cy
-    cos_a = math.cos(alpha)
+    cos_a = math.cos(alpha)  # cos'α = V_cx/V_c
     dr = (fz * r0 * ((t.QDZ6 + t.QDZ7 * dfz) * t.LRES
-                     + ((t.QDZ8 + t.QDZ9 * dfz) + (t.QDZ10 + t.QDZ11 * dfz) * abs(gs))
-                     * gs * t.LKZC) * t.LMUY * cos_a)
+                     + ((t.QDZ8 + t.QDZ9 * dfz) * (1.0 + t.PPZ2 * dpi)
+                        + (t.QDZ10 + t.QDZ11 * dfz) * abs(gz)) * gz * t.LKZC)
+          * t.LMUY * cos_a)
 
     if combined:
         # Combined slip (4.E50-4.E67).
         bxa = (t.RBX1 + t.RBX3 * gs * gs) * math.cos(math.atan(t.RBX2 * kappa)) * t.LXAL
         exa = min(1.0, t.REX1 + t.REX2 * dfz)
-        fx = _weight(bxa, t.RCX1, exa, alpha, t.RHX1) * fx0
+        fx = _weight(bxa, t.RCX1, exa, a, t.RHX1) * fx0
         shyk = t.RHY1 + t.RHY2 * dfz
-        byk = ((t.RBY1 + t.RBY4 * gs * gs) * math.cos(math.atan(t.RBY2 * (alpha - t.RBY3)))
+        byk = ((t.RBY1 + t.RBY4 * gs * gs) * math.cos(math.atan(t.RBY2 * (a - t.RBY3)))
                * t.LYKA)
         eyk = min(1.0, t.REY1 + t.REY2 * dfz)
-        dvyk = (muy * fz * (t.RVY1 + t.RVY2 * dfz + t.RVY3 * gs)
-                * math.cos(math.atan(t.RVY4 * alpha)))
+        dvyk = (muy * fz * (t.RVY1 + t.RVY2 * dfz + t.RVY3 * gy)
+                * math.cos(math.atan(t.RVY4 * a)))
         svyk = dvyk * math.sin(t.RVY5 * math.atan(t.RVY6 * kappa)) * t.LVYKA
-        fy = _weight(byk, t.RCY1, eyk, kappa, shyk) * fy0 + svyk
+        gyk = _weight(byk, t.RCY1, eyk, kappa, shyk)
+        fy = gyk * fy0 + svyk
         ratio = (kx / ky) if ky != 0 else 0.0
-        at_eq = math.sqrt(at * at + (ratio * kappa) ** 2) * _sign(at)
-        ar_eq = math.sqrt(ar * ar + (ratio * kappa) ** 2) * _sign(ar)
+        if form == 0.0:  # the book's 4.E77-4.E78
+            at_eq = math.sqrt(at * at + (ratio * kappa) ** 2) * _sign(at)
+            ar_eq = math.sqrt(ar * ar + (ratio * kappa) ** 2) * _sign(ar)
+        else:  # the TNO solver's (Besselink et al. 2010, A54)
+            at_eq = math.atan(math.sqrt(math.tan(at) ** 2 + (ratio * kappa) ** 2)) * _sign(at)
+            ar_eq = math.atan(math.sqrt(math.tan(ar) ** 2 + (ratio * kappa) ** 2)) * _sign(ar)
         trail = _mf_cos(bt, ct, dt, et, at_eq) * cos_a
         mzr = dr * math.cos(math.atan(br * ar_eq))
-        s = (t.SSZ1 + t.SSZ2 * (fy / fz0) + (t.SSZ3 + t.SSZ4 * dfz) * gs) * r0 * t.LS
-        mz = -trail * (fy - svyk) + mzr + s * fx
+        s = (t.SSZ1 + t.SSZ2 * (fy / t.FZ0_S) + (t.SSZ3 + t.SSZ4 * dfz) * gz) * r0 * t.LS
+        mz = -trail * gyk * fy0_trail + mzr + s * fx
     else:
         fx, fy = fx0, fy0
         trail = _mf_cos(bt, ct, dt, et, at) * cos_a
-        mz = -trail * fy0 + dr * math.cos(math.atan(br * ar))
-
-    # Rolling resistance (4.E70), opposing the rolling direction.
-    v = vx / t.LONGVL
-    my = -r0 * fz * (t.QSY1 + t.QSY2 * fx / fz0 + t.QSY3 * abs(v) + t.QSY4 * v ** 4) * t.LMY
-    my *= math.tanh(vx / 0.1)  # smooth sign through standstill
+        mz = -trail * fy0_trail + dr * math.cos(math.atan(br * ar))
+    my = _rolling(t, fz, fx, gamma, vx)
     return TyreForces(fx, fy, mz, my, fx0, fy0, ky, kx, trail)
 
 
@@ -247,20 +306,32 @@ def linear_tyre(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx):
     "linear tyre" of handling analyses): Fx = Fx(0) + Kx κ, Fy = Fy(0) + Ky α,
     Mz = Mz(0) - t0 Ky α, with Kx, Ky and the pneumatic trail t0 the Magic Formula's at zero
     slip (so it agrees with ``magic_formula`` to first order in κ and α) and My its rolling
-    resistance; no saturation, no combined-slip interaction. Fy(0), Mz(0) are the data's
-    offsets (ply-steer, conicity, camber thrust)."""
+    resistance at this Fx; no saturation, no combined-slip interaction. Fy(0), Mz(0) are the
+    data's offsets (ply-steer, conicity, camber thrust)."""
+    if t.CLIP != 0.0:
+        fz = min(fz, t.FZMAX)
+        gamma = _clip(gamma, t.CAMMIN, t.CAMMAX)
     f = magic_formula(t, fz, 0.0, 0.0, gamma, vx, combined=False)
     fx = f.fx + f.slip_stiffness * kappa
     fy = f.fy + f.cornering_stiffness * alpha
-    my = f.my
-    if fz > 0.0:  # rolling resistance at this Fx (4.E70's QSY2 term)
-        my += -t.UNLOADED_RADIUS * fz * t.QSY2 * (fx - f.fx) / (t.FNOMIN * t.LFZO) * t.LMY \
-            * math.tanh(vx / 0.1)
+    my = _rolling(t, fz, fx, gamma, vx) if fz > 0.0 else 0.0
     mz = f.mz - f.pneumatic_trail * f.cornering_stiffness * alpha
     return TyreForces(fx, fy, mz, my, fx, fy, f.cornering_stiffness, f.slip_stiffness,
                       f.pneumatic_trail)
 
 
-def _mf_cos(b, c, d, e, x):
-    bx = b * x
-    return d * math.cos(c * math.atan(bx - e * (bx - math.atan(bx))))
+def relaxation_lengths_m(tyre, fz):
+    """PAC2002's relaxation lengths (σκ, σα) in m from the file's PTX*, PTY* at load ``fz`` and
+    zero camber, or None when the file has none: σκ = Fz (PTX1 + PTX2 dfz) exp(-PTX3 dfz)
+    R0/Fz0 LSGKP, σα = PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0 LFZO LSGAL (the forms of
+    OpenTirePython's PAC2002, MIT; not checked against the MSC Adams manual)."""
+    if tyre.form != "PAC2002" or not (tyre.PTX1 or tyre.PTY1):
+        return None
+    fz0 = tyre.FNOMIN * tyre.LFZO
+    dfz = (fz - fz0) / fz0
+    r0 = tyre.UNLOADED_RADIUS
+    sigma_kappa = (fz * (tyre.PTX1 + tyre.PTX2 * dfz) * math.exp(-tyre.PTX3 * dfz)
+                   * (r0 / tyre.FNOMIN) * tyre.LSGKP)
+    sigma_alpha = (tyre.PTY1 * math.sin(2.0 * math.atan(fz / (tyre.PTY2 * fz0))) * r0
+                   * tyre.LFZO * tyre.LSGAL)
+    return sigma_kappa, sigma_alpha

@@ -30,6 +30,9 @@ class SlipOptions:
     relaxation_length_long_m: float = 0.15
     relaxation_length_lat_m: float = 0.45
     relaxation: bool = True
+    # Take the relaxation lengths from the tyre file's PTX*/PTY* (PAC2002) at the car's wheel
+    # load at rest instead of the two above.
+    relaxation_lengths_from_file: bool = False
     # Without relaxation, the steady-state slips use this speed as the smallest denominator.
     v_floor_mps: float = 1.0
     # Viscous contact damping faded in below ``low_speed_mps`` (damps the standstill springs).

@@ -1,0 +1,73 @@
+"""Is a tyre's Magic Formula a road tyre? Evaluated inside the file's own validity ranges.
+
+Loads: FZMIN (at least 5 % of FNOMIN), FNOMIN and FZMAX when the file gives its
+[VERTICAL_FORCE_RANGE], else 0.25, 1 and 2 FNOMIN (the book's file has no ranges); slips κ, α
+and inclinations γ up to ±1, ±0.5 rad and ±0.17 rad, clipped to the file's KPUMIN..KPUMAX,
+ALPMIN..ALPMAX, CAMMIN..CAMMAX. Refused (``TirFileError``): a shape factor C outside (0, 3],
+non-finite forces, |F|/Fz above ``MAX_FRICTION_COEFFICIENT`` anywhere, or stiffnesses of the
+wrong sign or size at FNOMIN (ISO: Kyα < 0 < Kx). The same stiffness test at the range's other
+loads only warns (returned as text): a fit may extrapolate badly towards FZMAX (Chrono's
+HMMWV tyre has Kx < 0 above about 2.4 FNOMIN), which matters only if the car gets there.
+"""
+
+import math
+
+from drake_car.law.tyre.property_file import TirFileError
+
+MAX_FRICTION_COEFFICIENT = 2.5
+MAX_STIFFNESS_PER_LOAD = 200.0
+_PROBES = ((0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.1, 0.0),
+           (0.0, -0.5, 0.0), (0.2, 0.2, 0.17), (-0.2, -0.2, -0.17))
+
+
+def _clip(x, low, high):
+    return min(max(x, low), high)
+
+
+def check_forces(tyre, magic_formula):
+    """Raises ``TirFileError`` if ``tyre`` (``MagicFormulaTyre``) is no road tyre by
+    ``magic_formula`` (its law); returns the warnings (a tuple of text)."""
+    for key, scale in (("PCX1", "LCX"), ("PCY1", "LCY")):
+        shape_factor = getattr(tyre, key) * getattr(tyre, scale)
+        if not 0 < shape_factor <= 3:
+            raise TirFileError(f"{tyre.name}: {key} = {getattr(tyre, key)} gives the shape "
+                               f"factor C = {shape_factor:.4g}; it must lie in (0, 3] "
+                               "(Pacejka 2006: about 1.3-1.7 for a road tyre)")
+    nominal = tyre.FNOMIN
+    if math.isfinite(tyre.FZMAX):
+        loads = (max(tyre.FZMIN, 0.05 * nominal), nominal, tyre.FZMAX)
+    else:
+        loads = (0.25 * nominal, nominal, 2.0 * nominal)
+    warnings = []
+    for fz in loads:
+        for kappa, alpha, gamma in _PROBES:
+            kappa = _clip(kappa, tyre.KPUMIN, tyre.KPUMAX)
+            alpha = _clip(alpha, tyre.ALPMIN, tyre.ALPMAX)
+            gamma = _clip(gamma, tyre.CAMMIN, tyre.CAMMAX)
+            at = f"at Fz = {fz:g} N, κ = {kappa:g}, α = {alpha:g} rad, γ = {gamma:g} rad"
+            try:
+                f = magic_formula(tyre, fz, kappa, alpha, gamma, 16.7)
+            except (ArithmeticError, ValueError) as e:
+                raise TirFileError(f"{tyre.name}: the Magic Formula fails {at}: {e}") from None
+            values = (f.fx, f.fy, f.mz, f.my, f.cornering_stiffness, f.slip_stiffness)
+            if not all(math.isfinite(v) for v in values):
+                raise TirFileError(f"{tyre.name}: the Magic Formula gives non-finite forces "
+                                   f"{at} (a coefficient is out of range)")
+            ratio = max(abs(f.fx), abs(f.fy)) / fz
+            if ratio > MAX_FRICTION_COEFFICIENT:
+                raise TirFileError(
+                    f"{tyre.name}: the Magic Formula gives |F|/Fz = {ratio:.3g} {at}; a road "
+                    f"tyre stays below {MAX_FRICTION_COEFFICIENT} (a coefficient is out of "
+                    "range)")
+            if kappa == alpha == gamma == 0.0 and not (
+                    -MAX_STIFFNESS_PER_LOAD * fz < f.cornering_stiffness < 0
+                    < f.slip_stiffness < MAX_STIFFNESS_PER_LOAD * fz):
+                text = (f"at Fz = {fz:g} N the cornering stiffness "
+                        f"{f.cornering_stiffness:.4g} N/rad must lie in "
+                        f"(-{MAX_STIFFNESS_PER_LOAD:g} Fz, 0) and the slip stiffness "
+                        f"{f.slip_stiffness:.4g} N in (0, {MAX_STIFFNESS_PER_LOAD:g} Fz) (ISO "
+                        "signs: PKY1 < 0, PKX1 > 0; road tyres have 5-40 Fz)")
+                if fz == nominal:
+                    raise TirFileError(f"{tyre.name}: {text}")
+                warnings.append(text + " -- inside the file's load range")
+    return tuple(warnings)

@@ -1,0 +1,47 @@
+"""A tyre property file's steady-state curves, figures and summary:
+
+  DIR/curves.csv     fz_N, kappa, alpha_rad, gamma_rad, fx_N, fy_N, mz_Nm (and the case):
+                     pure-slip sweeps at 0.5, 1, 1.5 and 2 FNOMIN (inside the file's FZMIN..FZMAX),
+                     with and without camber (3 deg), and combined slip (kappa swept at
+                     alpha = 2, 5, 8 deg); ISO-W signs, steady state, speed LONGVL
+  DIR/*.png          Fy-alpha, Mz-alpha, Fx-kappa at those loads, the friction ellipse at
+                     FNOMIN, slip and cornering stiffness against load
+  DIR/summary.txt    format and version read, peak mu, stiffnesses at FNOMIN, the
+                     coefficients that took defaults, the plausibility check's warnings
+
+The file is read as its format defines it (PAC2002, MF 6.1, MF 6.2 or drake_car's own
+MF_2006_BOOK); MF 6.x at its INFLPRES unless --pressure_Pa. Bad input (an unreadable or
+unsupported file, a folder): one line on stderr naming it, exit status 2, nothing written.
+
+  python -m drake_car.tyre --tir tests/data/tyres/Sedan_Pac02Tire.tir --out results/tyre_sedan
+"""
+
+import sys
+
+from drake_car import cli
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre
+from drake_car.model.loading import tir_path
+from drake_car.results.files import write_csv, write_text
+from drake_car.results.folder import output_folder
+from drake_car.study.handling import tyre_curves
+
+
+def main(argv=None):
+    p = cli.parser(__doc__, prog="python -m drake_car.tyre")
+    p.add_argument("--tir", required=True,
+                   help="tyre property file: a path, or a name in the package's urdf/ data")
+    p.add_argument("--pressure_Pa", type=float, default=None,
+                   help="inflation pressure (MF 6.x files; default the file's INFLPRES)")
+    args = p.parse_args(argv)
+    tyre = MagicFormulaTyre.from_file(tir_path(args.tir), pressure_Pa=args.pressure_Pa)
+    table = tyre_curves.curves(tyre)
+    text = tyre_curves.summary(tyre, table)
+    with output_folder(args.out) as out:
+        write_csv(out / "curves.csv", table)
+        write_text(out / "summary.txt", text)
+        tyre_curves.figures(tyre, table, out)
+    print(text + f"wrote {args.out}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    cli.run_main(main)

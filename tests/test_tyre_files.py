@@ -1,0 +1,145 @@
+"""Real tyre property files against independent implementations (tests/data/tyres; each CSV's
+header names its source, the implementation and how it was run).
+
+PAC2002: Project Chrono's five files (BSD-3) against OpenTirePython's PAC2002 (MIT). MF 6.1 and
+6.2: MFeval's sample files against TyreDyn (MIT), at the nominal pressure and 20 % above it.
+
+Tolerance: the issue's acceptance, 1 % of the peak of the corresponding pure-slip sweep at that
+load (|Fx| of the longitudinal sweep, |Fy| and |Mz| of the lateral one). Where drake_car follows
+the standard and the reference does not, the comparison is left out and says why:
+- MF 6.x Mz: TyreDyn's Et has (QEZ4 + QEZ5 γ*) π/2 atan(Bt Ct αt); the book's 4.E44 and MFeval
+  have 2/π (20 % of peak Mz on this file; with π/2 drake_car agrees to 0.6 %).
+- MF 6.x Fy with camber away from the nominal pressure: TyreDyn's Kyγ0 has (1 - PPY5 dpi); the
+  book's 4.E30 and MFeval have (1 + PPY5 dpi) (1.7 % of peak Fy at +20 %, γ = 3°).
+Measured (python -m pytest tests/test_tyre_files.py -s prints them): Fx, Fy within 1e-6 % of
+peak on every file; PAC2002 Mz within 0.2 % (OpenTire's cos'α is cos(tan α), ours cos α).
+"""
+
+import csv
+import math
+import io
+from pathlib import Path
+
+import pytest
+
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre, magic_formula
+from drake_car.law.tyre.property_file import TirFileError
+
+DATA = Path(__file__).parent / "data" / "tyres"
+TOLERANCE = 0.01  # of peak force
+REFERENCES = sorted(p.name for p in DATA.glob("*.csv"))
+
+
+def read_reference(path):
+    lines = [line for line in path.read_text().splitlines(True) if not line.startswith("#")]
+    return list(csv.DictReader(io.StringIO("".join(lines))))
+
+
+def tir_of(reference):
+    return DATA / (reference.replace("_p_nom", "").replace("_p_plus20", "")[:-4] + ".tir")
+
+
+def test_every_file_has_its_reference():
+    assert len(REFERENCES) == 9
+    for name in REFERENCES:
+        assert tir_of(name).exists(), name
+        assert "# Tyre property file:" in (DATA / name).read_text(), f"{name}: no source"
+
+
+@pytest.mark.parametrize("reference", REFERENCES)
+def test_forces_agree_with_the_independent_implementation(reference):
+    rows = read_reference(DATA / reference)
+    pressure = float(rows[0]["p_Pa"]) if "p_Pa" in rows[0] else None
+    tyre = MagicFormulaTyre.from_file(tir_of(reference), pressure_Pa=pressure, clip=False)
+    mf6 = tyre.form in ("MF 6.1", "MF 6.2")
+    nominal = not mf6 or tyre.DPI == 0.0
+    peak = {}
+    for r in rows:
+        fz = float(r["fz_N"])
+        for case, column in (("pure_long", "fx_N"), ("pure_lat", "fy_N"), ("pure_lat", "mz_Nm")):
+            if r["case"] == case:
+                peak[fz, column] = max(peak.get((fz, column), 0.0), abs(float(r[column])))
+    worst = {}
+    for r in rows:
+        fz, kappa, alpha, gamma = (float(r[c]) for c in ("fz_N", "kappa", "alpha_rad",
+                                                         "gamma_rad"))
+        f = magic_formula(tyre, fz, kappa, alpha, gamma, 16.7)
+        for column, ours in (("fx_N", f.fx), ("fy_N", f.fy), ("mz_Nm", f.mz)):
+            if column == "mz_Nm" and mf6:
+                continue  # TyreDyn's Et (see the module's docstring)
+            if column == "fy_N" and r["case"] == "lat_camber" and not nominal:
+                continue  # TyreDyn's PPY5 sign (see the module's docstring)
+            deviation = abs(ours - float(r[column])) / peak[fz, column]
+            worst[column] = max(worst.get(column, 0.0), deviation)
+            assert deviation < TOLERANCE, (
+                f"{reference} {r['case']} Fz={fz} κ={kappa} α={alpha} γ={gamma}: {column} "
+                f"{ours:.6g} vs {float(r[column]):.6g} ({100 * deviation:.3f} % of peak)")
+        if mf6:  # rolling resistance with its load and pressure power law (QSY7, QSY8)
+            assert abs(f.my - float(r["my_Nm"])) < 1e-6 * abs(float(r["my_Nm"])) + 1e-9
+    print(reference, {k: f"{100 * v:.4f} %" for k, v in worst.items()})
+
+
+def test_pressure_terms_are_used():
+    """MF 6.1 at 20 % above nominal pressure: the cornering stiffness changes by the file's
+    (1 + PPY1 dpi) sin(PKY4 atan(1 / (PKY2 (1 + PPY2 dpi)))) at FNOMIN, exactly."""
+    path = DATA / "MagicFormula61_Parameters.tir"
+    nominal = MagicFormulaTyre.from_file(path)
+    higher = MagicFormulaTyre.from_file(path, pressure_Pa=1.2 * nominal.NOMPRES)
+    assert higher.DPI == pytest.approx(0.2)
+    ratio = (magic_formula(higher, higher.FNOMIN, 0, 0, 0, 16.7).cornering_stiffness
+             / magic_formula(nominal, nominal.FNOMIN, 0, 0, 0, 16.7).cornering_stiffness)
+    t = nominal
+    expected = ((1 + t.PPY1 * 0.2) * math.sin(t.PKY4 * math.atan(1 / (t.PKY2 * (1 + t.PPY2 * 0.2))))
+                / math.sin(t.PKY4 * math.atan(1 / t.PKY2)))
+    assert ratio == pytest.approx(expected, rel=1e-12)
+
+
+def test_format_side_defaults_and_clipping():
+    sedan = MagicFormulaTyre.from_file(DATA / "Sedan_Pac02Tire.tir")
+    assert sedan.form == "PAC2002" and sedan.side == "LEFT"
+    assert "RCX1" in sedan.defaulted and "PCX1" not in sedan.defaulted
+    mf62 = MagicFormulaTyre.from_file(DATA / "MagicFormula62_Parameters.tir")
+    assert mf62.form == "MF 6.2" and mf62.side == "RIGHT" and "QBZ4" not in mf62.defaulted
+    truck = MagicFormulaTyre.from_file(DATA / "335_65R22_5_G275MSA_60psi.tir")
+    assert truck.KPUMAX == 0.0  # only braking measured: driving slip clipped to 0
+    assert magic_formula(truck, truck.FNOMIN, 0.1, 0, 0, 16.7).fx == pytest.approx(
+        magic_formula(truck, truck.FNOMIN, 0.0, 0, 0, 16.7).fx)
+    high = magic_formula(truck, 2 * truck.FZMAX, 0, 0.05, 0, 16.7).fy
+    assert high == magic_formula(truck, truck.FZMAX, 0, 0.05, 0, 16.7).fy
+    hmmwv = MagicFormulaTyre.from_file(DATA / "HMMWV_Pac02Tire.tir")
+    assert any("78750 N" in w for w in hmmwv.warnings)  # Kx < 0 at its FZMAX, inside its range
+
+
+@pytest.mark.parametrize("text, match", [
+    ("[MODEL]\nPROPERTY_FILE_FORMAT = 'FTIRE'\n", "'FTIRE' is a tyre model drake_car does not"),
+    ("[MODEL]\nFITTYP = 7\n", r":2: FITTYP = 7 is a Magic Formula version .* MF 6.1"),
+    ("[MODEL]\nLONGVL = 16.7\n", "neither PROPERTY_FILE_FORMAT nor FITTYP"),
+])
+def test_unsupported_formats_are_refused_by_name(tmp_path, text, match):
+    path = tmp_path / "other.tir"
+    path.write_text(text)
+    with pytest.raises(TirFileError, match=match):
+        MagicFormulaTyre.from_file(path)
+
+
+def test_tyre_command_writes_curves_figures_and_summary(tmp_path):
+    from drake_car.tyre.__main__ import main
+    out = tmp_path / "sedan"
+    main(["--tir", str(DATA / "Sedan_Pac02Tire.tir"), "--out", str(out)])
+    rows = list(csv.DictReader((out / "curves.csv").open()))
+    assert list(rows[0]) == ["case", "fz_N", "kappa", "alpha_rad", "gamma_rad", "fx_N", "fy_N",
+                             "mz_Nm"]
+    assert {r["case"] for r in rows} == {"pure_long", "pure_lat", "lat_camber", "combined"}
+    assert len({r["fz_N"] for r in rows}) >= 3
+    assert any(float(r["gamma_rad"]) != 0 for r in rows)
+    tyre = MagicFormulaTyre.from_file(DATA / "Sedan_Pac02Tire.tir")
+    for r in rows[::97]:  # the curves are the law's, ISO-W
+        f = magic_formula(tyre, float(r["fz_N"]), float(r["kappa"]), float(r["alpha_rad"]),
+                          float(r["gamma_rad"]), tyre.LONGVL)
+        assert (float(r["fx_N"]), float(r["fy_N"]), float(r["mz_Nm"])) == (f.fx, f.fy, f.mz)
+    for name in ("fy_alpha", "mz_alpha", "fx_kappa", "friction_ellipse", "stiffness_load"):
+        assert (out / f"{name}.png").stat().st_size > 10_000, name
+    summary = (out / "summary.txt").read_text()
+    for text in ("format: PAC2002", "mu_y", "cornering stiffness", "coefficients defaulted",
+                 "RCX1", "relaxation lengths"):
+        assert text in summary, text
