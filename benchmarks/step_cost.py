@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.multibody.plant import AddMultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import ConstantValueSource, ConstantVectorSource
@@ -33,11 +34,13 @@ from drake_car.model.car import add_car
 from drake_car.model.drive import add_drive_actuators
 from drake_car.model.struts import declare_strut_friction
 from drake_car.scene.load import load_scene
-from drake_car.scene.scene import PrescribedRotation
+from drake_car.model.steering import add_steering_column
+from drake_car.scene.scene import HandsOff, PrescribedRotation
 from drake_car.sim.monitor import Monitor
 from drake_car.results.files import write_json
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
+from drake_car.sim.build import build_diagram
 from drake_car.sim.simulate import Runner
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.tyre import TyreSystem
@@ -66,10 +69,11 @@ def _since(began):
     return wall - began[0], cpu - began[1]
 
 
-def whole_diagram(scene, t0, span):
+def whole_diagram(scene, t0, span, *, column_form="reflected"):
     """(wall, CPU) seconds for ``span`` simulated seconds from ``t0``, and the Runner. The span
-    runs as a study run does: in the divergence monitor's chunks (``Runner.advance_to``)."""
-    runner = Runner(scene)
+    runs as a study run does: in the divergence monitor's chunks (``Runner.advance_to``).
+    ``column_form``: a hands-off scene's steering column (``model.steering.COLUMN_FORMS``)."""
+    runner = Runner(scene, built=build_diagram(scene, column_form=column_form))
     runner.start()
     runner.advance_to(t0)
     began = _clocks()
@@ -78,10 +82,11 @@ def whole_diagram(scene, t0, span):
 
 
 def plant_alone(scene, runner, span):
-    """The same plant with its inputs held by C++ constant sources at ``runner``'s values."""
+    """The same plant (the hands-off column in the form ``runner`` built) with its inputs held
+    by C++ constant sources at ``runner``'s values, every actuator's PD gains and effort limit
+    as the whole Diagram last wrote them."""
     full, root = runner.built, runner.root
     pc = full.plant.GetMyContextFromRoot(root)
-    car_instance = full.car.instance
     builder = DiagramBuilder()
     plant, _ = AddMultibodyPlant(scene.plant, builder)
     car = add_car(plant, scene.car)
@@ -90,36 +95,39 @@ def plant_alone(scene, runner, span):
     if scene.friction is not None:
         declare_strut_friction(plant, car, rotation=scene.friction.rotation,
                                scheme=scene.friction.scheme)
+    if isinstance(scene.steering, HandsOff):
+        form = ("coupler" if full.plant.HasModelInstanceNamed("steering_column")
+                else "reflected")
+        add_steering_column(plant, car, scene.steering, scheme="fast", form=form)
     pacer = add_sap_pacer(plant) if scene.simulator.sap_pacer else None
     plant.Finalize()
     if pacer is not None:
         connect_sap_pacer(builder, plant, pacer)
-    sources = [
-        (full.plant.get_desired_state_input_port(car_instance),
-         plant.get_desired_state_input_port(car.instance)),
-        (full.plant.get_actuation_input_port(car_instance),
-         plant.get_actuation_input_port(car.instance)),
-        (full.plant.get_applied_generalized_force_input_port(),
-         plant.get_applied_generalized_force_input_port()),
-    ]
+    sources = [(full.plant.get_applied_generalized_force_input_port(),
+                plant.get_applied_generalized_force_input_port())]
+    for i in range(full.plant.num_model_instances()):
+        theirs = ModelInstanceIndex(i)
+        if full.plant.num_actuated_dofs(theirs) == 0:
+            continue
+        mine = plant.GetModelInstanceByName(full.plant.GetModelInstanceName(theirs))
+        sources += [(full.plant.get_desired_state_input_port(theirs),
+                     plant.get_desired_state_input_port(mine)),
+                    (full.plant.get_actuation_input_port(theirs),
+                     plant.get_actuation_input_port(mine))]
     for source, target in sources:
-        if source.HasValue(pc):
+        if source.HasValue(pc) and not builder.IsConnectedOrExported(target):
             held = builder.AddSystem(ConstantVectorSource(np.array(source.Eval(pc))))
             builder.Connect(held.get_output_port(0), target)
     forces = full.plant.get_applied_spatial_force_input_port().Eval(pc)
     held = builder.AddSystem(ConstantValueSource(AbstractValue.Make(list(forces))))
     builder.Connect(held.get_output_port(0), plant.get_applied_spatial_force_input_port())
     diagram = builder.Build()
-    # The friction's gains as the whole Diagram last wrote them.
-    if scene.friction is not None:
-        for side, pairs in (("left", 0), ("right", 1)):
-            for kind in ("translation", "rotation"):
-                name = f"strut_friction_{side}_{kind}"
-                if full.plant.HasJointActuatorNamed(name):
-                    mine = plant.GetJointActuatorByName(name)
-                    theirs = full.plant.GetJointActuatorByName(name)
-                    mine.set_controller_gains(theirs.get_controller_gains())
-                    mine.set_effort_limit(theirs.effort_limit())
+    for index in full.plant.GetJointActuatorIndices():
+        theirs = full.plant.get_joint_actuator(index)
+        if theirs.has_controller():
+            mine = plant.GetJointActuatorByName(theirs.name())
+            mine.set_controller_gains(theirs.get_controller_gains())
+            mine.set_effort_limit(theirs.effort_limit())
     simulator = Simulator(diagram)
     context = simulator.get_mutable_context()
     context.SetTime(root.get_time())

@@ -38,14 +38,16 @@ def declare_strut_friction(plant, car, *, rotation, scheme):
     return declarations
 
 
-def make_strut_friction(plant, car, declarations, law: StrutFrictionParameters, *, scheme):
-    """One StrutFriction for both front struts. The prismatic joint's child is the cylinder
-    (the knuckle), its frame Jc at the guide, q the rod's extension s: the overlap is
-    d = l - s, and the overlap's middle lies d/2 beyond Jc along the joint axis."""
+def make_strut_friction(plant, car, declarations, law: StrutFrictionParameters, *, scheme,
+                        extra_struts=()):
+    """One StrutFriction for both front struts (and ``extra_struts`` after them: a hands-off
+    column's pair). The prismatic joint's child is the cylinder (the knuckle), its frame Jc at
+    the guide, q the rod's extension s: the overlap is d = l - s, and the overlap's middle lies
+    d/2 beyond Jc along the joint axis."""
     front = car.params.front
     length = front.guide_length_l_m
     struts = [Strut(pairs, side, overlap_m=(length, -1.0),
                     moment_arm_offset_m=(-0.5 * length, 0.5),
                     rod_radius_m=front.rod_radius_r_m)
-              for side, pairs in declarations.items()]
+              for side, pairs in declarations.items()] + list(extra_struts)
     return StrutFriction(plant, struts, law, scheme=scheme, name="strut_friction")

@@ -20,8 +20,7 @@ from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import (
     add_drive_actuators, differential_speed_gain, open_differential_gain, rolling_radius)
 from drake_car.model.loading import tir_path
-from drake_car.model.steering import (
-    COLUMN_LAW, add_steering_column, column_strut, release_schedule)
+from drake_car.model.steering import add_steering_column, column_strut, release_schedule
 from drake_car.model.struts import (
     declare_strut_friction, make_strut_friction, reference_time_step_limit_s)
 from drake_car.scene.load import channels_of, hands_off_release_s
@@ -69,10 +68,13 @@ class CarDiagram:
 CASES = ("a", "b")
 
 
-def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram:
+def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
+                  column_form="reflected") -> CarDiagram:
     """The scene's Diagram. ``branchable`` (lane changes only): both cases' rack commands
     behind a switch whose selection is a value of the context (``select_case``), so runs that
-    differ only in the case can continue one saved context (``sim.branch``)."""
+    differ only in the case can continue one saved context (``sim.branch``). ``column_form``:
+    how a hands-off scene's steering column is modelled (``model.steering.COLUMN_FORMS``; the
+    coupler form is the reference the tests hold the default to)."""
     builder = DiagramBuilder()
     # 1. The plant and the car, then every actuator the scene needs, before Finalize.
     plant, scene_graph = AddMultibodyPlant(scene.plant, builder)
@@ -90,11 +92,15 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
     if scene.friction is not None:
         declarations = declare_strut_friction(plant, car, rotation=scene.friction.rotation,
                                               scheme=scene.friction.scheme)
-        wiring.add("friction", len(sum(declarations.values(), [])),
-                   pd=scene.friction.scheme == "fast")
-    column_pairs = None
-    if isinstance(scene.steering, HandsOff):
-        column_pairs = add_steering_column(plant, car, scene.steering, scheme="fast")
+    column = _Column(scene, add_steering_column(plant, car, scene.steering, scheme="fast",
+                                                form=column_form)
+                     if isinstance(scene.steering, HandsOff) else None, column_form)
+    strut_pairs = len(sum(declarations.values(), [])) if declarations else 0
+    if strut_pairs or column.merged:
+        wiring.add("friction", strut_pairs + (len(column.pairs) if column.merged else 0),
+                   pd=scene.friction is None or scene.friction.scheme == "fast")
+    if column.own_group:
+        wiring.add("steering_column", len(column.pairs), pd=True)
     pacer = add_sap_pacer(plant) if scene.simulator.sap_pacer else None
     plant.Finalize()
     if pacer is not None:
@@ -117,11 +123,15 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
     builder.Connect(plant.get_body_poses_output_port(), applier.get_body_poses_input_port())
     applied = [applier.get_spatial_forces_output_port()]
 
-    # 4. Strut friction: reactions in, PD targets and feed-forward out.
+    # 4. Strut friction (and a hands-off column's, one more pair of the same system where
+    # both use the fast scheme): reactions in, PD targets and feed-forward out.
     friction = None
-    if declarations is not None:
+    if strut_pairs or column.merged:
         friction = builder.AddSystem(make_strut_friction(
-            plant, car, declarations, scene.friction.law, scheme=scene.friction.scheme))
+            plant, car, declarations or {},
+            scene.friction.law if scene.friction is not None else column.law,
+            scheme=scene.friction.scheme if scene.friction is not None else "fast",
+            extra_struts=[column.strut()] if column.merged else []))
         friction.connect(builder, plant)
         wiring.connect("friction", desired=friction.desired_state_output_port(),
                        feedforward=friction.actuation_output_port())
@@ -150,8 +160,8 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False) -> CarDiagram
         rack.set_name("rack_command")
         rack_port = rack.get_output_port(0)
     wiring.connect("rack", desired=rack_port)
-    if column_pairs is not None:
-        _let_go(builder, plant, car, scene, column_pairs)
+    if column.pairs is not None:
+        _let_go(builder, plant, car, scene, column, wiring)
 
     # 7. Everything into the plant.
     wiring.finish(builder)
@@ -298,21 +308,55 @@ def _add_drive(builder, plant, car, scene, wiring):
         wiring.connect("drive", feedforward=torque)
 
 
-def _let_go(builder, plant, car, scene, column_pairs):
-    """Hands off: the rack servo lets go at the release time; the column's friction."""
+@dataclasses.dataclass
+class _Column:
+    """A hands-off scene's steering column: its friction pairs (None: held steering; [] no
+    friction) and where they go: ``merged`` into the car's strut-friction system (the
+    reflected form's pair is the car's actuator; the struts' scheme is fast or absent),
+    ``own_group`` (the car's actuator, but the struts use the reference scheme: a fast system
+    of its own), else (the coupler form) a system wired to the column's model instance."""
+
+    scene: Scene
+    pairs: list | None
+    form: str
+
+    @property
+    def merged(self):
+        return (bool(self.pairs) and self.form == "reflected"
+                and (self.scene.friction is None or self.scene.friction.scheme == "fast"))
+
+    @property
+    def own_group(self):
+        return bool(self.pairs) and self.form == "reflected" and not self.merged
+
+    @property
+    def law(self):
+        return self.strut().params
+
+    def strut(self):
+        return column_strut(self.pairs, self.scene.steering)
+
+
+def _let_go(builder, plant, car, scene, column, wiring):
+    """Hands off: the rack servo lets go at the release time; the column's friction where it
+    is not one more pair of the car's strut-friction system."""
     release = builder.AddSystem(GainSchedule([car.rack_actuator],
                                              release_schedule(hands_off_release_s(scene))))
     release.set_name("hands_off")
-    if not column_pairs:
+    if not column.pairs or column.merged:
         return
-    column = builder.AddSystem(StrutFriction(
-        plant, [column_strut(column_pairs, scene.steering)], COLUMN_LAW, scheme="fast",
-        name="steering_friction"))
-    column.connect(builder, plant)
+    strut = column.strut()
+    system = builder.AddSystem(StrutFriction(plant, [strut], strut.params, scheme="fast",
+                                             name="steering_friction"))
+    system.connect(builder, plant)
+    if column.own_group:
+        wiring.connect("steering_column", desired=system.desired_state_output_port(),
+                       feedforward=system.actuation_output_port())
+        return
     instance = plant.GetModelInstanceByName("steering_column")
-    builder.Connect(column.desired_state_output_port(),
+    builder.Connect(system.desired_state_output_port(),
                     plant.get_desired_state_input_port(instance))
-    builder.Connect(column.actuation_output_port(), plant.get_actuation_input_port(instance))
+    builder.Connect(system.actuation_output_port(), plant.get_actuation_input_port(instance))
 
 
 def _add_governor(builder, plant, car, scene, drive, torque):

@@ -19,6 +19,7 @@ from drake_car.scene.load import (
     WALL_PER_STEP_S, dump_scene, dump_scene_file, scene_hash)
 from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
 from drake_car.sim.build import build_diagram
+from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
 from drake_car.sim.monitor import Monitor
 from drake_car.systems.tyre import WHEELS
@@ -184,7 +185,13 @@ def static_equilibrium(scene: Scene) -> Equilibrium:
 
 @functools.lru_cache(maxsize=64)
 def _settled(settle_yaml) -> Equilibrium:
-    return equilibrium_from_run(simulate(yaml_load_typed(schema=Scene, data=settle_yaml)))
+    # In memory for this process, on disk between processes (sim.equilibrium_cache).
+    cached = equilibrium_cache.load(settle_yaml)
+    if cached is not None:
+        return cached
+    equilibrium = equilibrium_from_run(simulate(yaml_load_typed(schema=Scene, data=settle_yaml)))
+    equilibrium_cache.store(settle_yaml, equilibrium)
+    return equilibrium
 
 
 def _set_initial_state(built, root, scene):

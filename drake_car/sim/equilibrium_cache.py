@@ -1,0 +1,139 @@
+"""The static equilibrium kept on disk between processes, so a run does not settle the car
+again (6 s of simulation at 1 ms) when that settling scene has been run before.
+
+An entry is named by the SHA-256 of everything that changes its bits: the settling scene's
+YAML (``sim.equilibrium.equilibrium_scene``), the contents of drake_car's own source and model
+files (its Python, the car's SDFormat and tyre files: a commit, an edit not yet committed, an
+installed version alike), and the versions of drake, numba and numpy. An entry is JSON holding
+its own key; one that does not read back whole (damaged, cut short, another key, a value not a
+finite number) is ignored and recomputed, never trusted. Entries are written atomically (a
+temporary file in the same folder, then ``os.replace``), so two processes settling the same
+scene at once both write a whole entry.
+
+The folder: ``$DRAKE_CAR_CACHE_DIR`` if set, else the platform's cache folder
+(``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux, ``~/Library/Caches`` on macOS,
+``%LOCALAPPDATA%`` on Windows) + ``drake_car/equilibrium``. Clearing it is always safe:
+``python -m drake_car.sim.equilibrium_cache --clear`` (or delete the folder).
+``DRAKE_CAR_CACHE_DIR=off`` turns the disk cache off.
+"""
+
+import dataclasses
+import functools
+import hashlib
+import json
+import math
+import os
+import sys
+import tempfile
+from importlib import metadata
+from pathlib import Path
+
+from drake_car.sim.equilibrium import Equilibrium
+
+ENVIRONMENT_VARIABLE = "DRAKE_CAR_CACHE_DIR"
+FORMAT = 1  # bump when an entry's layout changes
+_PACKAGE = Path(__file__).resolve().parents[1]  # drake_car/
+_FIELDS = [f.name for f in dataclasses.fields(Equilibrium)]
+
+
+def cache_folder():
+    """Where entries live (None: the disk cache is off)."""
+    chosen = os.environ.get(ENVIRONMENT_VARIABLE)
+    if chosen:
+        return None if chosen == "off" else Path(chosen).expanduser() / "equilibrium"
+    if sys.platform == "darwin":
+        base = Path.home() / "Library" / "Caches"
+    elif os.name == "nt":
+        base = Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local"))
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base / "drake_car" / "equilibrium"
+
+
+@functools.lru_cache(maxsize=1)
+def code_fingerprint():
+    """SHA-256 of drake_car's Python and model files and the versions of the packages that
+    compute an equilibrium (once per process: ~100 small files)."""
+    digest = hashlib.sha256(f"format {FORMAT}\n".encode())
+    for package in ("drake", "numba", "numpy"):
+        try:
+            version = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            version = "absent"
+        digest.update(f"{package} {version}\n".encode())
+    files = sorted(_PACKAGE.rglob("*.py")) + sorted((_PACKAGE / "data" / "urdf").rglob("*"))
+    for path in files:
+        if path.is_file() and "__pycache__" not in path.parts:
+            digest.update(str(path.relative_to(_PACKAGE)).encode() + b"\0")
+            digest.update(path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+def entry_key(settle_yaml):
+    return hashlib.sha256((code_fingerprint() + "\n" + settle_yaml).encode()).hexdigest()
+
+
+def load(settle_yaml):
+    """The cached equilibrium of this settling scene, or None (absent, off, or not whole)."""
+    folder = cache_folder()
+    if folder is None:
+        return None
+    key = entry_key(settle_yaml)
+    try:
+        data = json.loads((folder / f"{key}.json").read_text())
+        if data.get("key") != key or set(data["equilibrium"]) != set(_FIELDS):
+            return None
+        equilibrium = Equilibrium(**data["equilibrium"])
+    except (OSError, ValueError, TypeError, KeyError, AttributeError):
+        return None
+    return equilibrium if _whole(equilibrium) else None
+
+
+def store(settle_yaml, equilibrium: Equilibrium):
+    """Writes the entry atomically; a folder that cannot be written leaves the run uncached."""
+    folder = cache_folder()
+    if folder is None:
+        return
+    key = entry_key(settle_yaml)
+    text = json.dumps({"key": key, "equilibrium": dataclasses.asdict(equilibrium)})
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{key}.", suffix=".tmp")
+        try:
+            with os.fdopen(handle, "w") as f:
+                f.write(text)
+            os.replace(temporary, folder / f"{key}.json")
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
+    except OSError:
+        pass
+
+
+def clear():
+    """Deletes every entry; returns how many."""
+    folder = cache_folder()
+    if folder is None or not folder.is_dir():
+        return 0
+    entries = list(folder.glob("*.json")) + list(folder.glob(".*.tmp"))
+    for path in entries:
+        path.unlink(missing_ok=True)
+    return len(entries)
+
+
+def _whole(e: Equilibrium):
+    numbers = ([*e.positions, *e.overlap_m.values(), *e.corner_loads_N.values(),
+                e.max_abs_velocity, e.settle_s, e.time_step_s])
+    return (bool(e.positions) and all(isinstance(x, (int, float)) and math.isfinite(x)
+                                      for x in numbers))
+
+
+if __name__ == "__main__":
+    import argparse
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--clear", action="store_true", help="delete every entry")
+    args = parser.parse_args()
+    print(cache_folder() or f"off ({ENVIRONMENT_VARIABLE}=off)")
+    if args.clear:
+        print(f"deleted {clear()} entries")
