@@ -4,32 +4,28 @@ systems and wiring, loggers, visualiser, Build)."""
 
 import dataclasses
 
-import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
 from pydrake.systems.framework import DiagramBuilder, InputPortIndex
 from pydrake.systems.primitives import (
-    Adder, ConstantVectorSource, LogVectorOutput, MatrixGain, Multiplexer, PortSwitch,
-    Saturation, TrajectorySource)
+    LogVectorOutput, MatrixGain, PortSwitch, TrajectorySource)
 
 from drake_car.law.tyre.magic_formula import MagicFormulaTyre, relaxation_lengths_m
 from drake_car.law.tyre.contact import RadialTyre
 from drake_car.model.anti_roll_bar import anti_roll_bar_gain, time_step_limit_s
 from drake_car.model.car import add_car
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
-from drake_car.model.drive import (
-    add_drive_actuators, differential_speed_gain, open_differential_gain, rolling_radius)
+from drake_car.model.drive import add_drive_actuators
 from drake_car.model.loading import tir_path
 from drake_car.model.steering import add_steering_column, column_strut, release_schedule
 from drake_car.model.struts import (
     declare_strut_friction, make_strut_friction, reference_time_step_limit_s)
 from drake_car.scene.load import channels_of, hands_off_release_s
-from drake_car.scene.manoeuvres import (
-    LaneChange, speed_trajectory, wheel_rotation_trajectory)
+from drake_car.scene.manoeuvres import LaneChange
 from drake_car.scene.scene import (
-    HandsOff, LinearTyre, MagicFormula, OpenDifferential, PrescribedRotation, Scene)
+    HandsOff, LinearTyre, MagicFormula, PrescribedRotation, Scene)
 from drake_car.sim.actuation import ActuationWiring
-from drake_car.systems.driveshaft import Driveshafts
+from drake_car.sim.drive_wiring import add_drive, driveshafts
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
@@ -116,7 +112,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
 
     # 3. Tyres: forces on the wheels from their poses and velocities (and the driveshafts'
     # reaction of the drive torque, which needs the wheels' spin axes too).
-    tyre = _add_tyres(builder, plant, car, scene, _driveshafts(plant, car, scene))
+    tyre = _add_tyres(builder, plant, car, scene, driveshafts(plant, car, scene))
     applier = builder.AddSystem(tyre.make_applier())
     applier.set_name("tyre_forces")
     builder.Connect(tyre.GetOutputPort("tyre_wrenches"), applier.get_command_input_port())
@@ -138,7 +134,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
 
     # 5. Drive: the speed profile through the front wheels, torque reacted by the body.
     if drives:
-        _add_drive(builder, plant, car, scene, wiring)
+        add_drive(builder, plant, car, scene, wiring)
 
     # 6. Steering: the rack servo follows the manoeuvre's rack trajectory.
     case_port = None
@@ -263,51 +259,6 @@ def _add_tyres(builder, plant, car, scene, driveshafts):
     return tyre
 
 
-def _driveshafts(plant, car, scene):
-    """The driveshafts the tyre system applies (``systems.driveshaft``), or None: the drive
-    torque is reacted by the body unless the scene drives no wheel or prescribes the rotation
-    with the knuckles reacting it."""
-    drive = scene.drive
-    if not scene.manoeuvre.drives or (isinstance(drive, PrescribedRotation)
-                                       and drive.reaction != "driveshaft"):
-        return None
-    return Driveshafts(plant, car.instance, car.drive_actuators,
-                       [car.body(f"knuckle_{side}") for side in ("left", "right")],
-                       car.body("chassis"))
-
-
-def _add_drive(builder, plant, car, scene, wiring):
-    """The drive torque on the front wheels (the tyre system reacts it through the
-    driveshafts, ``_driveshafts``)."""
-    timeline = scene.manoeuvre.timeline
-    drive = scene.drive
-    if isinstance(drive, PrescribedRotation):
-        command = builder.AddSystem(TrajectorySource(
-            wheel_rotation_trajectory(timeline, rolling_radius(scene.car)), 1))
-        command.set_name("drive_command")
-        wiring.connect("drive", desired=command.get_output_port(0))
-    else:
-        assert isinstance(drive, OpenDifferential)
-        # Speed controller (all Drake C++ primitives): [plant state; v_ref; a_ref] -> the two
-        # wheels' torques, each half the total, clamped.
-        profile = builder.AddSystem(TrajectorySource(speed_trajectory(timeline)))
-        profile.set_name("speed_profile")
-        stack = builder.AddSystem(Multiplexer([plant.num_multibody_states(), 2]))
-        stack.set_name("speed_controller_inputs")
-        builder.Connect(plant.get_state_output_port(), stack.get_input_port(0))
-        builder.Connect(profile.get_output_port(0), stack.get_input_port(1))
-        gain = builder.AddSystem(MatrixGain(open_differential_gain(
-            plant, car, speed_gain_Nm_per_mps=drive.speed_gain_Nm_per_mps)))
-        gain.set_name("open_differential")
-        limit = 0.5 * drive.max_wheel_torque_Nm
-        clamp = builder.AddSystem(Saturation(np.full(2, -limit), np.full(2, limit)))
-        clamp.set_name("drive_torque_limit")
-        builder.Connect(stack.get_output_port(0), gain.get_input_port())
-        builder.Connect(gain.get_output_port(), clamp.get_input_port())
-        torque = _add_governor(builder, plant, car, scene, drive, clamp.get_output_port())
-        wiring.connect("drive", feedforward=torque)
-
-
 @dataclasses.dataclass
 class _Column:
     """A hands-off scene's steering column: its friction pairs (None: held steering; [] no
@@ -357,31 +308,6 @@ def _let_go(builder, plant, car, scene, column, wiring):
     builder.Connect(system.desired_state_output_port(),
                     plant.get_desired_state_input_port(instance))
     builder.Connect(system.actuation_output_port(), plant.get_actuation_input_port(instance))
-
-
-def _add_governor(builder, plant, car, scene, drive, torque):
-    """The rev limit: each wheel's torque less K/2 max(0, ω_diff - ω_limit)."""
-    speed = builder.AddSystem(MatrixGain(differential_speed_gain(plant, car)))
-    speed.set_name("differential_speed")
-    builder.Connect(plant.get_state_output_port(), speed.get_input_port())
-    top = scene.manoeuvre.timeline.speed_mps / rolling_radius(scene.car)
-    offset = builder.AddSystem(ConstantVectorSource([-drive.rev_limit_ratio * top]))
-    offset.set_name("rev_limit")
-    over = builder.AddSystem(Adder(2, 1))
-    over.set_name("overspeed")
-    builder.Connect(speed.get_output_port(), over.get_input_port(0))
-    builder.Connect(offset.get_output_port(0), over.get_input_port(1))
-    positive = builder.AddSystem(Saturation([0.0], [np.inf]))
-    positive.set_name("overspeed_positive")
-    builder.Connect(over.get_output_port(0), positive.get_input_port())
-    pull = builder.AddSystem(MatrixGain(np.full((2, 1), -0.5 * drive.governor_gain_Nm_per_radps)))
-    pull.set_name("governor")
-    builder.Connect(positive.get_output_port(), pull.get_input_port())
-    total = builder.AddSystem(Adder(2, 2))
-    total.set_name("drive_torque")
-    builder.Connect(torque, total.get_input_port(0))
-    builder.Connect(pull.get_output_port(), total.get_input_port(1))
-    return total.get_output_port(0)
 
 
 def _add_loggers(builder, plant, car, tyre, friction, pacer, scene):
