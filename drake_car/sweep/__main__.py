@@ -1,8 +1,9 @@
 """Runs many scenes on Dask and keeps each result as it completes (``sweep.runner``):
 
-  DIR/runs/<hash>/  each run by its scene's content hash: status.json (ok or failed, wall
-                    time, worker, error), scene.yaml (the scene as it ran), and for an ok run
-                    history.csv, run.json and run.pkl (the Run, pickled)
+  DIR/runs/<key>/   each run by its key (the scene's content, the files it reads, the code):
+                    status.json (ok or failed, wall time, worker, error, the files'
+                    checksums), scene.yaml (the scene as it ran), and for an ok run
+                    history.csv, run.json (the worker's provenance) and diagram.dot
   DIR/index.csv     hash, name, status, wall_s, error: a row per run
   DIR/sweep.json    how it was made: each invocation's command, options, scenes (name ->
                     hash), counts and wall time
@@ -44,7 +45,7 @@ from drake_car.results.folder import OutputError, terminate_as_exit
 from drake_car.results.provenance import provenance
 from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_scene_option
 from drake_car.scene.scene import MeshcatLive
-from drake_car.sweep.store import check_unlocked
+from drake_car.sweep.store import check_layout, check_unlocked, read_sweep_log
 from drake_car.sweep.runner import cores, dask_client, missing, run_sweep
 
 GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0.2)"
@@ -174,6 +175,8 @@ def check_sweep_folder(out):
     if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
         raise OutputError(f"--out {out}: {probe} is not a writable folder")
     check_unlocked(out)
+    if out.is_dir():
+        check_layout(out)
 
 
 def _grid_option(p, item):
@@ -195,10 +198,7 @@ def _log_invocation(out, entry):
     """sweep.json's record of invocations with ``entry`` appended (written now: the folder is
     then a sweep's, resumable even if this one is killed)."""
     out.mkdir(parents=True, exist_ok=True)
-    try:
-        log = json.loads((out / "sweep.json").read_text())
-    except (OSError, ValueError):
-        log = {"invocations": []}
+    log = read_sweep_log(out)
     log["invocations"].append(entry)
     write_json(out / "sweep.json", log)
     return log
