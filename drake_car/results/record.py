@@ -67,7 +67,8 @@ def read_texts(folder, names=RUN_FILES + OPTIONAL_FILES):
         path = folder / name
         if path.is_file():
             try:
-                texts[name] = path.read_text()
+                with open(path, encoding="utf-8", newline="") as f:  # bytes as written
+                    texts[name] = f.read()
             except (OSError, UnicodeDecodeError) as e:
                 raise OutputError(f"{path}: cannot be read ({type(e).__name__}: {e})") from None
     return texts

@@ -62,7 +62,7 @@ from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
 from drake_car.sweep.store import (
-    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, check_layout, commit_run,
+    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, check_layout, commit_run,
     damage, failure_kind, files_read, folder_lock, key_parts, load_run, read_status,
     rebuild_index, remove_stale, run_key)
 from drake_car.sweep.store import announce_other_code as _announce_other_code
