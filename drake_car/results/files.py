@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from drake_car.results.diagram import write_diagram_svg
+from drake_car.results.provenance import provenance
 
 
 def write_text(path, text):
@@ -103,10 +104,20 @@ def parse_csv(text):
 def write_run(run, folder, *, diagram=True):
     """A run's own files: history.csv, scene.yaml (the scene as it ran), run.json (how it went,
     provenance), diagram.svg and replay.html when there is one."""
-    from drake_car.results.record import run_texts
     folder = Path(folder)
     for name, text in run_texts(run).items():
         if name != "diagram.dot":
             write_text(folder / name, text)
     if diagram:
         write_diagram_svg(run.diagram_dot, folder / "diagram.svg")
+
+
+def run_texts(run, **extra):
+    """name -> text of ``run``'s files; ``extra`` goes into run.json's provenance."""
+    record = run.record() | {"final_positions": run.final["positions"],
+                             "provenance": provenance(**extra)}
+    texts = {"history.csv": csv_text(run.history), "scene.yaml": run.scene_file_text,
+             "run.json": json_text(record), "diagram.dot": run.diagram_dot}
+    if run.replay_html is not None:
+        texts["replay.html"] = run.replay_html
+    return texts

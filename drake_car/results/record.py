@@ -9,26 +9,14 @@ import hashlib
 import json
 from pathlib import Path
 
-from drake_car.results.files import csv_text, json_text, parse_csv
+from drake_car.results.files import parse_csv, run_texts  # noqa: F401 - run_texts: here too
 from drake_car.results.folder import OutputError
-from drake_car.results.provenance import provenance
 from drake_car.scene.load import SceneError, load_scene_text
 from drake_car.sim.simulate import Run
 
 # The files a finished run is made of (replay.html only when the scene asked for one).
 RUN_FILES = ("history.csv", "scene.yaml", "run.json", "diagram.dot")
 OPTIONAL_FILES = ("replay.html",)
-
-
-def run_texts(run, **extra):
-    """name -> text of ``run``'s files; ``extra`` goes into run.json's provenance."""
-    record = run.record() | {"final_positions": run.final["positions"],
-                             "provenance": provenance(**extra)}
-    texts = {"history.csv": csv_text(run.history), "scene.yaml": run.scene_file_text,
-             "run.json": json_text(record), "diagram.dot": run.diagram_dot}
-    if run.replay_html is not None:
-        texts["replay.html"] = run.replay_html
-    return texts
 
 
 def checksums(texts):
