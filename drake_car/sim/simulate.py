@@ -20,7 +20,7 @@ from drake_car.scene.load import (
 from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
 from drake_car.sim.build import build_diagram
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
-from drake_car.sim.monitor import Monitor
+from drake_car.sim.monitor import Monitor, Road
 from drake_car.systems.tyre import WHEELS
 
 # Runs whose estimate exceeds this print it first.
@@ -128,7 +128,10 @@ class Runner:
             self.recorder = ReplayRecorder(meshcat, self.built, visual)
         self.monitor = Monitor(self.built.plant, self.built.diagram,
                                state_logger=self.built.velocity_logger,
-                               instance=self.built.car.instance)
+                               instance=self.built.car.instance, road=Road(
+                                   self.built.tyre, scene.car.tyre.radial_stiffness_Npm,
+                                   scene.road.flat_up_to_m(), self.built.car.body("chassis"),
+                                   scene.simulator.airborne_limit_s))
         self.progress = progress
         self.wall_s = 0.0
 
