@@ -168,3 +168,60 @@ def test_damaged_sweep_bookkeeping_is_named_and_kept(damage, named, tmp_path, ca
     assert stopped.value.code == 2 and named in err and "Traceback" not in err, err[-500:]
     assert "repair" in err or "remove" in err or "move" in err
     assert {p: (p.stat().st_mtime_ns, p.is_dir()) for p in out.rglob("*")} == before
+
+
+@pytest.fixture
+def silent_listener():
+    """A TCP port that accepts connections and never answers."""
+    import socket
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    server.close()
+
+
+@pytest.fixture
+def http_server():
+    """An HTTP server: it answers, but not as a Dask scheduler."""
+    import http.server
+    import threading
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args):
+            pass
+    server = http.server.HTTPServer(("127.0.0.1", 0), Quiet)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    yield f"tcp://127.0.0.1:{server.server_address[1]}"
+    server.shutdown()
+    server.server_close()
+
+
+@pytest.mark.parametrize("address, reason", [
+    ("foo://", "not a Dask scheduler address"),
+    ("http://", "not a Dask scheduler address"),
+    ("http://127.0.0.1:8786", "not a Dask scheduler address"),
+    ("silent", "no Dask scheduler answered within 2 s"),
+    ("http", "no Dask scheduler"),
+])
+def test_a_scheduler_that_is_not_one_is_refused(address, reason, request, tmp_path, capsys,
+                                                monkeypatch):
+    """--scheduler: a bad address refused before the scenes are read, a listener that is not
+    a Dask scheduler refused by the handshake under its timeout (here 2 s; before: the Client
+    waited forever, or stalled 20 s and printed a stray traceback); one line, exit 2, nothing
+    written."""
+    from drake_car.sweep import scheduler
+    monkeypatch.setattr(scheduler, "CONNECT_TIMEOUT_S", 2)
+    address = {"silent": lambda: request.getfixturevalue("silent_listener"),
+               "http": lambda: request.getfixturevalue("http_server")}.get(
+                   address, lambda: address)()
+    out = tmp_path / "sweep"
+    with pytest.raises(SystemExit) as stopped:
+        cli.run_main(sweep_command.main, ["--scenes", str(ROOT / "scenes/paper_study.yaml:a_1"),
+                                          "--scene_text", "simulator: {end_time_s: 0.05}",
+                                          "--scheduler", address, "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if line.startswith("error:")]
+    assert stopped.value.code == 2 and len(lines) == 1, err[-800:]
+    assert f"--scheduler {address}: {reason}" in lines[0], lines
+    assert "Traceback" not in err and not out.exists()

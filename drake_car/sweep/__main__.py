@@ -47,6 +47,7 @@ from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_
 from drake_car.scene.scene import MeshcatLive
 from drake_car.sweep.store import check_layout, check_unlocked, read_sweep_log
 from drake_car.sweep.runner import cores, dask_client, missing, run_sweep
+from drake_car.sweep.scheduler import SCHEDULER_ADDRESS
 
 GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0.2)"
 
@@ -67,6 +68,8 @@ def main(argv=None):
     args = p.parse_args(argv)
     if args.scheduler and args.workers:
         p.error("--workers sizes the local cluster; a --scheduler cluster has its own workers")
+    if args.scheduler and not SCHEDULER_ADDRESS.match(args.scheduler):
+        _refuse_scheduler(args.scheduler, "not a Dask scheduler address; give tcp://HOST:PORT")
     grid = [_grid_option(p, item) for item in args.grid]
     if len({key for key, _ in grid}) < len(grid):
         p.error("--grid: a key is given twice")
@@ -90,7 +93,7 @@ def main(argv=None):
             except (OSError, ValueError) as e:
                 if not args.scheduler:
                     raise
-                p.error(f"--scheduler {args.scheduler}: cannot connect ({one_line(e)})")
+                _refuse_scheduler(args.scheduler, e)
         workers = len(client.scheduler_info()["workers"]) if client else 0
         if client:
             print(f"on {workers} workers of {args.scheduler or 'a local cluster'}"
@@ -113,6 +116,12 @@ def main(argv=None):
           f"{args.out / 'index.csv'})", file=sys.stderr)
     if failed:
         raise SystemExit(1)
+
+
+def _refuse_scheduler(address, reason):
+    """One line, exit 2, before anything is written."""
+    print(f"error: --scheduler {address}: {one_line(reason)}", file=sys.stderr)
+    raise SystemExit(2)
 
 
 def build_scenes(scenes_option, scene_text, grid):

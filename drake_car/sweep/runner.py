@@ -61,6 +61,7 @@ from drake_car.scene.load import check_scene, dump_scene, scene_hash
 from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
+from drake_car.sweep.scheduler import CONNECT_TIMEOUT_S, check_scheduler
 from drake_car.sweep.store import (
     INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, check_layout, commit_run,
     damage, failure_kind, files_read, folder_lock, key_parts, load_run, read_status,
@@ -69,7 +70,6 @@ from drake_car.sweep.store import announce_other_code as _announce_other_code
 from drake_car.systems.failure import SimulationFailure
 
 LOOPBACK = "127.0.0.1"
-CONNECT_TIMEOUT_S = 10
 
 
 def cores():
@@ -91,6 +91,7 @@ def dask_client(scheduler=None, workers=None):
     ``workers`` started here and closed on exit. An unreachable scheduler raises OSError."""
     from distributed import Client
     if scheduler:
+        check_scheduler(scheduler)
         with Client(scheduler, timeout=CONNECT_TIMEOUT_S, set_as_default=False) as client:
             yield client
         return
