@@ -225,3 +225,29 @@ def test_a_scheduler_that_is_not_one_is_refused(address, reason, request, tmp_pa
     assert stopped.value.code == 2 and len(lines) == 1, err[-800:]
     assert f"--scheduler {address}: {reason}" in lines[0], lines
     assert "Traceback" not in err and not out.exists()
+
+
+@pytest.mark.parametrize("signum, raised", [("SIGINT", KeyboardInterrupt), ("SIGTERM", SystemExit)])
+def test_an_interrupt_stops_a_run_between_monitor_chunks(signum, raised):
+    """Ctrl-C or SIGTERM while the simulator steps is raised between the monitor's chunks (the
+    simulated time a whole number of monitor periods), never inside a system Drake calls back
+    from C++ where it could be lost; SIGTERM under ``terminate_as_exit`` as SystemExit."""
+    import signal
+    import threading
+
+    from conftest import paper_scene
+    from drake_car.results.folder import terminate_as_exit
+    from drake_car.sim.simulate import Runner
+    runner = Runner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
+    runner.start()
+    timer = threading.Timer(1.0, os.kill, (os.getpid(), getattr(signal, signum)))
+    timer.start()
+    try:
+        with pytest.raises(raised), terminate_as_exit():
+            runner.advance_to(8.0)
+    finally:
+        timer.cancel()
+    period = runner.scene.simulator.monitor_period_s
+    t = runner.root.get_time()
+    assert 0 < t < 8.0 and abs(t / period - round(t / period)) < 1e-6, t
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
