@@ -20,7 +20,7 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 from drake_car.data import resource
 from drake_car.law.checks import ParameterError, checked, excerpt, one_line
 from drake_car.scene.guard import (
-    YamlInputError, check_entry_name, check_yaml, read_yaml_file)
+    PLAIN_NAME, YamlInputError, check_entry_name, check_yaml, read_yaml_file)
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene, default_plant_config
 
@@ -148,6 +148,11 @@ def shipped_scenes():
 
 def check_scene(scene: Scene, where="scene") -> Scene:
     """Every section's check and the cross-checks; raises SceneError naming the key."""
+    name = scene.name
+    if not isinstance(name, str) or not PLAIN_NAME.match(name) or ".." in name:
+        raise SceneError(f"{where}: name = {excerpt(name)} is not a plain name (letters, digits, "
+                         "_ . + = -; not starting with . or -; at most 100 characters); it "
+                         "names folders and files")
     try:
         for section in ("car", "friction", "tyres", "road", "manoeuvre", "drive", "simulator",
                         "logging", "visualization"):

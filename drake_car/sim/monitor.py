@@ -137,7 +137,8 @@ class Monitor:
                 self._airborne_since = t
             elif t - self._airborne_since > road.airborne_limit_s:
                 raise DivergenceError(
-                    f"left the road at t = {t:.6f} s: all four tyre loads zero since t = "
+                    f"diverged at t = {t:.6f} s: left the road: all four tyre loads zero "
+                    f"since t = "
                     f"{self._airborne_since:.6f} s on a flat road, beyond "
                     f"simulator.airborne_limit_s = {road.airborne_limit_s:g} s; a smaller "
                     "plant.time_step or a softer tyre may help")
@@ -158,7 +159,8 @@ class Monitor:
         gain = energy - start - work
         if gain > self._slack_J:
             raise DivergenceError(
-                f"gained energy at t = {t:.6f} s: the car's mechanical energy is {energy:.6g} J, "
+                f"diverged at t = {t:.6f} s: gained energy: the car's mechanical energy is "
+                f"{energy:.6g} J, "
                 f"{gain:.4g} J above its {start:.6g} J at t = {start_t:.6f} s plus the "
                 f"{work:.4g} J its actuators could have given (allowed: {self._slack_J:.3g} J); "
                 "a smaller plant.time_step or a softer tyre may help")
