@@ -251,3 +251,120 @@ def test_an_interrupt_stops_a_run_between_monitor_chunks(signum, raised):
     t = runner.root.get_time()
     assert 0 < t < 8.0 and abs(t / period - round(t / period)) < 1e-6, t
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+SHORT = A_1 + ["--scene_text", "simulator: {end_time_s: 0.05}", "--quiet"]
+
+
+def _refused(capsys, argv, key):
+    """Runs drake_car.run with ``argv``: exit 2, one error line holding ``key``, no traceback."""
+    with pytest.raises(SystemExit) as stopped:
+        cli.run_main(run_command.main, [str(a) for a in argv])
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if line.startswith("error:")]
+    assert stopped.value.code == 2 and len(lines) == 1, err[-800:]
+    assert key in lines[0] and "Traceback" not in err, lines[0][:500]
+
+
+@pytest.fixture
+def held_lock(tmp_path):
+    """Holds a folder's lock (``results.lock``) from another process, as a run writing it."""
+    processes = []
+
+    def hold(lock):
+        code = ("import sys, time; from drake_car.results.lock import exclusive\n"
+                "with exclusive(sys.argv[1]):\n    print('held', flush=True); time.sleep(120)")
+        process = subprocess.Popen([sys.executable, "-c", code, str(lock)], cwd=ROOT,
+                                   stdout=subprocess.PIPE, text=True,
+                                   env=dict(os.environ, PYTHONPATH=str(ROOT)))
+        assert process.stdout.readline().strip() == "held"
+        processes.append(process)
+        return process.pid
+    yield hold
+    for process in processes:
+        process.kill()
+        process.wait()
+
+
+@pytest.mark.parametrize("label, out, key", [
+    ("--out name over 255 bytes", lambda t: t / ("x" * 250), "is 250 bytes; names here are limited to"),
+    ("--out a dangling symlink", lambda t: (t / "out").symlink_to(t / "nowhere") or t / "out",
+     "a dangling symbolic link (to"),
+    ("scene name is a path", None, "name = '../x' is not a plain name"),
+])
+def test_a_bad_out_or_name_is_refused_before_any_work(label, out, key, tmp_path, capsys,
+                                                      monkeypatch):
+    monkeypatch.chdir(ROOT)
+    argv = A_1 + ["--quiet"]
+    if out is None:
+        argv, target = A_1 + ["--scene_text", "name: ../x"], tmp_path / "out"
+    else:
+        target = out(tmp_path)
+    before = {p.name for p in tmp_path.iterdir()}
+    _refused(capsys, argv + ["--out", target], key)
+    assert {p.name for p in tmp_path.iterdir()} == before, label
+
+
+def test_out_inside_a_folder_another_run_replaces_is_refused(tmp_path, capsys, held_lock,
+                                                             monkeypatch):
+    """``--out A/B`` while another run writes ``A`` (its lock held): refused, naming A (before:
+    accepted, then deleted by the other run's swap); and ``--out A`` while another run writes
+    ``A/B``: refused, naming A/B."""
+    monkeypatch.chdir(ROOT)
+    outer = tmp_path / "A"
+    pid = held_lock(tmp_path / ".A.lock")
+    _refused(capsys, SHORT + ["--out", outer / "B"],
+             f"inside {outer}, which another run (pid {pid}) is writing")
+    assert not outer.exists()
+    outer.mkdir()
+    (outer / ".drake_car_output").write_text("")
+    pid = held_lock(outer / ".B.lock")
+    _refused(capsys, SHORT + ["--out", outer], f"holds {outer / 'B'}, which another run (pid {pid})")
+    assert sorted(p.name for p in outer.iterdir()) == [".B.lock", ".drake_car_output"]
+
+
+@pytest.mark.parametrize("errno_name, at", [("ENOSPC", "write"), ("EACCES", "rename"),
+                                             ("ENAMETOOLONG", "rename")])
+def test_os_errors_on_the_output_take_the_one_error_path(errno_name, at, tmp_path, capsys,
+                                                         monkeypatch):
+    """A full disk while the run's files are written, a rename refused at the swap: exit 2, the
+    path and the reason in one line, no temporary folder left, a previous output kept (before:
+    a traceback, after the whole simulation)."""
+    import errno
+    monkeypatch.chdir(ROOT)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".drake_car_output").write_text("")
+    (out / "earlier.csv").write_text("kept")
+    code = getattr(errno, errno_name)
+    if at == "write":
+        def write_run(run, folder):
+            raise OSError(code, os.strerror(code), str(folder / "history.csv"))
+        monkeypatch.setattr(run_command, "write_run", write_run)
+    else:
+        rename = Path.rename
+
+        def refused(self, target):
+            if Path(target) == out and "-old-" not in self.name:  # the new output's move
+                raise OSError(code, os.strerror(code), str(self), str(target))
+            return rename(self, target)
+        monkeypatch.setattr(Path, "rename", refused)
+    _refused(capsys, SHORT + ["--out", out], f"--out {out}: ")
+    assert (out / "earlier.csv").read_text() == "kept"
+    assert not leftovers(tmp_path), leftovers(tmp_path)
+
+
+def test_a_symlinked_out_replaces_what_it_names_and_leaves_no_link_behind(tmp_path,
+                                                                         monkeypatch):
+    """--out LINK -> REAL: REAL replaced whole, LINK kept, no orphaned ``.partial-…-old-…``
+    link (before: the link was renamed away and left)."""
+    monkeypatch.chdir(ROOT)
+    real, link = tmp_path / "real", tmp_path / "link"
+    real.mkdir()
+    (real / ".drake_car_output").write_text("")
+    (real / "stale.csv").write_text("from an earlier run")
+    link.symlink_to(real)
+    cli.run_main(run_command.main, SHORT + ["--out", str(link)])
+    assert link.is_symlink() and (real / "history.csv").is_file()
+    assert not (real / "stale.csv").exists()
+    assert not leftovers(tmp_path), leftovers(tmp_path)
