@@ -70,6 +70,17 @@ CASES = [
     (".tir over its size limit", run_command.main, lambda t: tyre(big_tir(t)),
      "bad.tir: over 1000000 bytes"),
     (".tir is a folder", run_command.main, lambda t: tyre(t), "is a folder"),
+    ("a road profile over its sample limit", run_command.main,
+     lambda t: A_1 + ["--scene_text", "road: !SampledProfile {x_m: [" + ", ".join(
+         map(str, range(100_001))) + "], z_m: [" + ", ".join(["0"] * 100_001) + "]}"],
+     "'x_m' is a list of 100001 items; lists (a !SampledProfile's samples) are limited to "
+     "100000 (about 20 s and 0.2 GB"),
+    ("a --grid product over its limit", sweep_command.main,
+     lambda t: ["--scenes", "scenes/paper_study.yaml:a_1"] + [
+         f"--grid={key}=" + ",".join(f"{base + k * step:g}" for k in range(30))
+         for key, base, step in (("friction.law.mu_s", 0.3, 0.001), ("friction.law.mu_d", 0.1,
+                                 0.001), ("car.front.strut_damping_Nspm", 100, 10))],
+     "--grid: 27000 scenes (30 x 30 x 30): about"),
     ("sweep: missing .tir found before any run", sweep_command.main,
      lambda t: ["--scenes", "scenes/paper_study.yaml:a_1", "--scene_text",
                 f"tyres: !MagicFormula {{tir_file: {t / 'nowhere.tir'}}}"],
@@ -368,3 +379,18 @@ def test_a_symlinked_out_replaces_what_it_names_and_leaves_no_link_behind(tmp_pa
     assert link.is_symlink() and (real / "history.csv").is_file()
     assert not (real / "stale.csv").exists()
     assert not leftovers(tmp_path), leftovers(tmp_path)
+
+
+def test_a_large_grid_is_announced_and_goes_on_when_asked(monkeypatch, capsys):
+    """Past the announcement threshold: the estimate on stderr, then the scenes; past the limit
+    with ``large``: the same (the limits lowered here to keep the test small)."""
+    monkeypatch.chdir(ROOT)
+    monkeypatch.setattr(sweep_command, "GRID_ANNOUNCE_SCENES", 2)
+    monkeypatch.setattr(sweep_command, "GRID_MAX_SCENES", 3)
+    grid = [("friction.law.mu_s", ["0.3", "0.4"]), ("friction.law.mu_d", ["0.1", "0.2"])]
+    with pytest.raises(Exception, match=r"--grid: 4 scenes \(2 x 2\): about .* over the limit "
+                                        r"of 3 scenes; give fewer values, or --large to go on"):
+        sweep_command.build_scenes("scenes/paper_study.yaml:a_1", "", grid)
+    assert len(sweep_command.build_scenes("scenes/paper_study.yaml:a_1", "", grid,
+                                          large=True)) == 4
+    assert "--grid: 4 scenes (2 x 2): about" in capsys.readouterr().err

@@ -11,9 +11,11 @@ from pathlib import Path
 import yaml
 
 from drake_car.law.checks import excerpt
+from drake_car.law.road.profiles import MAX_ROAD_SAMPLES, ROAD_SAMPLE_BYTES, ROAD_SAMPLE_S
 
 # A scene file or --scene_text: the shipped scene files are a few kB; a !SampledProfile road
-# of MAX_ROAD_SAMPLES points written out is about 2 x 20 bytes per point.
+# of MAX_ROAD_SAMPLES points (law.road.profiles; a longer list is refused here, before Drake's
+# parser spends ~0.15 ms a number on it) written out is about 2 x 20 bytes per point.
 MAX_YAML_BYTES = 4_000_000
 # Nodes of the document with every alias expanded (what a loader builds).
 MAX_EXPANDED_NODES = 1_000_000
@@ -73,7 +75,7 @@ def check_yaml(text, where):
         return
     sizes = {}
 
-    def expanded(node):
+    def expanded(node, key=None):
         known = sizes.get(id(node))
         if known is not None:
             return known
@@ -88,8 +90,17 @@ def check_yaml(text, where):
                             f"{excerpt(key.value)} given twice (first on line "
                             f"{keys[key.value] + 1}); give each key once")
                     keys[key.value] = key.start_mark.line
-            total = 1 + sum(expanded(k) + expanded(v) for k, v in node.value)
+            total = 1 + sum(expanded(k) + expanded(v, getattr(k, "value", None))
+                            for k, v in node.value)
         elif isinstance(node, yaml.SequenceNode):
+            if len(node.value) > MAX_ROAD_SAMPLES:
+                n = len(node.value)
+                raise YamlInputError(
+                    f"{where}: line {node.start_mark.line + 1}: {excerpt(key)} is a list of {n} "
+                    f"items; lists (a !SampledProfile's samples) are limited to "
+                    f"{MAX_ROAD_SAMPLES} (about {n * ROAD_SAMPLE_S:.0f} s and "
+                    f"{n * ROAD_SAMPLE_BYTES / 1e9:.1f} GB to load and settle [EST]); resample "
+                    "the profile more coarsely")
             total = 1 + sum(expanded(v) for v in node.value)
         else:
             total = 1
