@@ -9,6 +9,7 @@ The runs are the paper's lane changes cut to 0.3 s, from an equilibrium settled 
 import concurrent.futures
 import csv
 import json
+import re
 import os
 import shutil
 import signal
@@ -193,7 +194,8 @@ def test_a_failing_run_is_recorded_and_the_others_complete(tmp_path):
     assert (summary["ok"], summary["failed"]) == (2, 1)
     bad = read_status(out / "runs" / scene_key(scenes["bad"]))
     assert bad["status"] == "failed" and bad["kind"] == "run" and bad["name"] == "bad"
-    assert bad["error"].startswith("SimulationFailure: diverged at t = ")
+    # the tyre's load check or the monitor's (energy gained) stops it, whichever trips first
+    assert re.match(r"(SimulationFailure|DivergenceError): diverged at t = ", bad["error"])
     assert "simulate" in bad["traceback"] and bad["worker"].startswith("tcp://127.0.0.1:")
     assert not (out / "runs" / bad["hash"] / "history.csv").exists()
     assert (out / "runs" / bad["hash"] / "scene.yaml").is_file()  # to rerun it alone
@@ -201,7 +203,7 @@ def test_a_failing_run_is_recorded_and_the_others_complete(tmp_path):
     assert rows["bad"]["status"] == "failed" and "diverged" in rows["bad"]["error"]
     assert rows["a_1"]["status"] == rows["b_1"]["status"] == "ok"
     # main-job use: the first failed run (in the scenes' order) raised, naming it
-    with pytest.raises(SimulationFailure, match=r"run bad failed: SimulationFailure: diverged"):
+    with pytest.raises(SimulationFailure, match=r"run bad failed: (SimulationFailure|DivergenceError): diverged"):
         run_scenes(scenes, out_dir=out, progress=False)  # all reused: no cluster
     # in memory (on one cluster for both calls): the run's own exception, naming it; the
     # scenes' order; two names with one content run once
