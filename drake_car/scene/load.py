@@ -74,6 +74,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
                              f"{', '.join(entries)[:300]}")
         where = f"{path} [{child}]"
         _check_raw(data[child], Scene, where, "")
+        _check_own_name(data[child], where)
         scene = _typed(where, schema=Scene, data=text, child_name=child, defaults=scene)
     if scene_text:
         where = f"{text_origin} {excerpt(scene_text)}"
@@ -85,6 +86,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
         if raw is None:
             raw = {}
         _check_raw(raw, Scene, where, "")
+        _check_own_name(raw, where)
         scene = _typed(where, schema=Scene, data=scene_text, defaults=scene)
     return check_scene(scene, where)
 
@@ -146,13 +148,20 @@ def shipped_scenes():
     return found
 
 
-def check_scene(scene: Scene, where="scene") -> Scene:
-    """Every section's check and the cross-checks; raises SceneError naming the key."""
-    name = scene.name
+def _check_own_name(raw, where):
+    """A scene's own ``name:`` from outside (a file's entry, --scene_text) names folders and
+    files: a plain name only (the package's own scenes may name themselves freely)."""
+    if not isinstance(raw, dict) or "name" not in raw:
+        return
+    name = raw["name"]
     if not isinstance(name, str) or not PLAIN_NAME.match(name) or ".." in name:
         raise SceneError(f"{where}: name = {excerpt(name)} is not a plain name (letters, digits, "
                          "_ . + = -; not starting with . or -; at most 100 characters); it "
                          "names folders and files")
+
+
+def check_scene(scene: Scene, where="scene") -> Scene:
+    """Every section's check and the cross-checks; raises SceneError naming the key."""
     try:
         for section in ("car", "friction", "tyres", "road", "manoeuvre", "drive", "simulator",
                         "logging", "visualization"):
