@@ -103,9 +103,18 @@ def base_run():
     return simulate(paper_scene("a_3", BASE_TEXT))
 
 
+def layered(child, *texts):
+    """The paper scene with each text laid over the last (a key given twice in one text is
+    refused, scene.guard)."""
+    scene = paper_scene(child, texts[0])
+    for text in texts[1:]:
+        scene = load_scene(base=scene, scene_text=text)
+    return scene
+
+
 @pytest.mark.parametrize("label", list(OVERRIDES))
 def test_every_scene_value_changes_the_run(label, base_run):
-    scene = paper_scene("a_3", BASE_TEXT + "\n" + OVERRIDES[label])
+    scene = layered("a_3", BASE_TEXT, OVERRIDES[label])
     assert dump_scene(scene) != dump_scene(base_run.scene), "the saved scene must differ"
     run = simulate(scene)
     base, other = base_run.history, run.history
@@ -117,9 +126,9 @@ def test_every_scene_value_changes_the_run(label, base_run):
 
 def test_the_friction_scheme_alone_changes_the_run():
     """The scheme override above also needs a smaller step; here only the scheme differs."""
-    common = BASE_TEXT + "\nplant: {time_step: 5.0e-6}\nsimulator: {end_time_s: 0.02}"
-    fast = simulate(paper_scene("a_3", common + "\nfriction: {scheme: fast}"))
-    reference = simulate(paper_scene("a_3", common + "\nfriction: {scheme: reference}"))
+    common = "plant: {time_step: 5.0e-6}\nsimulator: {end_time_s: 0.02}"
+    fast = simulate(layered("a_3", common, "friction: {scheme: fast}"))
+    reference = simulate(layered("a_3", common, "friction: {scheme: reference}"))
     assert fast.scene.friction.scheme == "fast" and reference.scene.friction.scheme == "reference"
     assert any(not np.array_equal(fast.history[c], reference.history[c])
                for c in fast.history if c != "phase")

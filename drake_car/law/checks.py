@@ -14,7 +14,7 @@ class ParameterError(ValueError):
 
     def __init__(self, key, value, requirement):
         self.key, self.value, self.requirement = key, value, requirement
-        super().__init__(f"{key} = {value!r} {requirement}")
+        super().__init__(f"{key} = {excerpt(value)} {requirement}")
 
     def within(self, prefix):
         """The same error with ``prefix.`` put before the key."""
@@ -77,3 +77,19 @@ def checked(obj, prefix):
     except ParameterError as e:
         raise e.within(prefix) from None
     return obj
+
+
+_EXCERPT = None
+
+
+def excerpt(value):
+    """``repr(value)`` cut to a bounded excerpt (``reprlib``): what an error message quotes
+    of a value that came from outside (a huge list or string stays a line)."""
+    global _EXCERPT
+    if _EXCERPT is None:
+        import reprlib
+        _EXCERPT = reprlib.Repr()
+        _EXCERPT.maxstring = _EXCERPT.maxother = 80
+        _EXCERPT.maxlist = _EXCERPT.maxdict = _EXCERPT.maxtuple = 6
+        _EXCERPT.maxlevel = 3
+    return _EXCERPT.repr(value)

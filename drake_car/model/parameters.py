@@ -241,6 +241,10 @@ class TyreVerticalParameters:
         return self
 
 
+# The least lateral span of a front lower arm from its pivots to the ball joint (m).
+MIN_ARM_SPAN_M = 0.1
+
+
 @dataclasses.dataclass
 class CarParameters:
     """Everything the model files and the plant are generated from."""
@@ -261,11 +265,20 @@ class CarParameters:
             checked(getattr(self, group), group)
         f = self.front
         b = f.ball_joint_offset_b_m
-        if not 0.0 <= b < f.track_m / 2 - 0.1:
+        # The ball joint (at y = track/2 - b) sits outboard of both lower-arm pivots, the arm
+        # spanning at least MIN_ARM_SPAN_M across, and inside the wheel: within the tyre's width
+        # inboard of its centre plane, where the rim, hub and brake are [EST: a McPherson
+        # ball joint lies in the rim's dish, 40-110 mm in; one tyre width bounds that].
+        pivots_y = max(f.lower_arm_front_pivot_m[1], f.lower_arm_rear_pivot_m[1])
+        arm_bound = f.track_m / 2 - pivots_y - MIN_ARM_SPAN_M
+        bound = min(arm_bound, self.tyre.width_m)
+        if not 0.0 <= b < bound:
             raise ParameterError(
                 "front.ball_joint_offset_b_m", b,
-                f"must lie in [0, track/2 - 0.1 m) = [0, {f.track_m / 2 - 0.1:.3f}) m: the ball "
-                "joint sits inside the wheel, outboard of the lower-arm pivots")
+                f"must lie in [0, {bound:.3f}) m: the ball joint sits inside the wheel (b < "
+                f"tyre.width_m = {self.tyre.width_m:g} m) and outboard of the lower-arm pivots "
+                f"(y = {pivots_y:g} m) by at least {MIN_ARM_SPAN_M:g} m (b < track/2 - "
+                f"{pivots_y:g} - {MIN_ARM_SPAN_M:g} = {arm_bound:.3f} m)")
         if not f.top_mount_height_m > f.ball_joint_height_m + 0.2:
             raise ParameterError("front.top_mount_height_m", f.top_mount_height_m,
                                  "must be at least 0.2 m above front.ball_joint_height_m")

@@ -42,14 +42,24 @@ def plain(value):
     return value
 
 
+def json_text(data):
+    """``data`` (numpy values and non-finite floats made JSON-ready) as indented JSON."""
+    return json.dumps(plain(data), indent=2, sort_keys=False) + "\n"
+
+
 def write_json(path, data):
     """``data`` (numpy values and non-finite floats made JSON-ready) as indented JSON."""
-    write_text(path, json.dumps(plain(data), indent=2, sort_keys=False) + "\n")
+    write_text(path, json_text(data))
 
 
 def write_csv(path, columns: dict):
     """``columns``: name -> sequence (all the same length); strings or numbers. Floats are
     written with ``repr`` (shortest round-trip form): the CSV carries the run's bits."""
+    write_text(path, csv_text(columns))
+
+
+def csv_text(columns: dict):
+    """The text ``write_csv`` writes."""
     names = list(columns)
     lengths = {len(columns[n]) for n in names}
     if len(lengths) > 1:
@@ -62,14 +72,25 @@ def write_csv(path, columns: dict):
     for row in rows:
         writer.writerow([repr(float(x)) if isinstance(x, (float, np.floating)) else x
                          for x in row])
-    write_text(path, buffer.getvalue())
+    return buffer.getvalue()
 
 
 def read_csv(path):
     """Reads a CSV written by ``write_csv``: name -> numpy array (or list of str)."""
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        return parse_csv(f.read())
+
+
+def parse_csv(text):
+    """``csv_text``'s text back: name -> numpy array (or list of str). Rows of another length
+    than the header (a truncated file) raise ValueError."""
+    rows = list(csv.reader(io.StringIO(text, newline="")))
+    if not rows:
+        raise ValueError("empty CSV")
     names, data = rows[0], rows[1:]
+    for number, row in enumerate(data, start=2):
+        if len(row) != len(names):
+            raise ValueError(f"row {number} has {len(row)} values, not {len(names)}")
     out = {}
     for i, name in enumerate(names):
         values = [r[i] for r in data]
@@ -84,10 +105,19 @@ def write_run(run, folder, *, diagram=True):
     """A run's own files: history.csv, scene.yaml (the scene as it ran), run.json (how it went,
     provenance), diagram.svg and replay.html when there is one."""
     folder = Path(folder)
-    write_csv(folder / "history.csv", run.history)
-    write_text(folder / "scene.yaml", run.scene_file_text)
-    write_json(folder / "run.json", run.record() | {"provenance": provenance()})
+    for name, text in run_texts(run).items():
+        if name != "diagram.dot":
+            write_text(folder / name, text)
     if diagram:
         write_diagram_svg(run.diagram_dot, folder / "diagram.svg")
+
+
+def run_texts(run, **extra):
+    """name -> text of ``run``'s files; ``extra`` goes into run.json's provenance."""
+    record = run.record() | {"final_positions": run.final["positions"],
+                             "provenance": provenance(**extra)}
+    texts = {"history.csv": csv_text(run.history), "scene.yaml": run.scene_file_text,
+             "run.json": json_text(record), "diagram.dot": run.diagram_dot}
     if run.replay_html is not None:
-        write_text(folder / "replay.html", run.replay_html)
+        texts["replay.html"] = run.replay_html
+    return texts

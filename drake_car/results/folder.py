@@ -16,7 +16,8 @@ import signal
 import uuid
 from pathlib import Path
 
-from drake_car.results.lock import LockHeld, exclusive
+from drake_car.law.checks import excerpt
+from drake_car.results.lock import LockHeld, exclusive, holder
 
 MARKER = ".drake_car_output"  # in every folder this module wrote
 
@@ -25,9 +26,19 @@ class OutputError(ValueError):
     """The output folder cannot be used; the message names it and why."""
 
 
+# The names made beside --out: ".NAME.partial-PID-HEX8-old-HEX8" is the longest.
+_BESIDE_BYTES = len(".partial--old-") + 2 * 8 + 1 + 10
+
+
 def check_output_target(out_dir):
-    """Refuses an output target that cannot be written as a whole, before any work."""
+    """Refuses an output target that cannot be written as a whole, before any work: a file, a
+    foreign non-empty folder, a dangling symbolic link, a name too long for the folder it is
+    in (with the temporary names made beside it), an unwritable place, a place inside or
+    around another run's folder in progress (its lock held)."""
     out_dir = Path(out_dir)
+    if out_dir.is_symlink() and not out_dir.exists():
+        raise OutputError(f"--out {out_dir}: a dangling symbolic link (to "
+                          f"{os.readlink(out_dir)}); remove it or choose another folder")
     if out_dir.is_file() or (out_dir.exists() and not out_dir.is_dir()):
         raise OutputError(f"--out {out_dir}: is a file, not a folder")
     if out_dir.is_dir() and any(out_dir.iterdir()) and not (out_dir / MARKER).is_file():
@@ -39,6 +50,37 @@ def check_output_target(out_dir):
         probe = probe.parent
     if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
         raise OutputError(f"--out {out_dir}: {probe} is not a writable folder")
+    try:
+        name_max = os.pathconf(probe, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        name_max = 255
+    for part in out_dir.absolute().relative_to(probe.absolute()).parts:
+        if len(os.fsencode(part)) + _BESIDE_BYTES > name_max:
+            raise OutputError(f"--out {out_dir}: the name {excerpt(part)} is "
+                              f"{len(os.fsencode(part))} bytes; names here are limited to "
+                              f"{name_max} bytes, {name_max - _BESIDE_BYTES} for an output "
+                              "folder (its temporary names are longer)")
+    _check_no_run_in_progress(out_dir)
+
+
+def _check_no_run_in_progress(out_dir):
+    """Another run writing a folder that holds ``out_dir`` (it would replace it, and ours with
+    it) or a folder inside ``out_dir`` (ours would replace it) is refused, naming it."""
+    out_dir = Path(out_dir).absolute()
+    for folder in [out_dir, *out_dir.parents][1:]:
+        owner = holder(folder.parent / f".{folder.name}.lock") if folder.name else None
+        if owner is not None and owner != os.getpid():
+            raise OutputError(f"--out {out_dir}: inside {folder}, which another run (pid "
+                              f"{owner if owner > 0 else 'unknown'}) is writing and will "
+                              "replace whole; wait for it or choose another folder")
+    if out_dir.is_dir() and not out_dir.is_symlink():
+        for lock in out_dir.rglob(".*.lock"):
+            owner = holder(lock)
+            if owner is not None and owner != os.getpid():
+                inner = lock.parent / lock.name[1:-len(".lock")]
+                raise OutputError(f"--out {out_dir}: holds {inner}, which another run (pid "
+                                  f"{owner if owner > 0 else 'unknown'}) is writing; wait for "
+                                  "it or choose another folder")
 
 
 @contextlib.contextmanager
@@ -75,28 +117,74 @@ def terminate_as_exit(*, once=False):
 @contextlib.contextmanager
 def output_folder(out_dir):
     """Yields a temporary folder beside ``out_dir``; on success it replaces ``out_dir`` whole;
-    on any error (or SIGINT/SIGTERM) it is removed and ``out_dir`` is left as it was."""
+    on any error (or SIGINT/SIGTERM) it is removed and ``out_dir`` is left as it was. A
+    symbolic link as ``out_dir`` is followed once: the folder it names is replaced, the link
+    kept. An OS error on the output's files (a full disk, a refused rename) is an OutputError
+    naming the path and the reason."""
     out_dir = Path(out_dir).absolute()
     check_output_target(out_dir)
+    if out_dir.is_symlink():
+        out_dir = out_dir.resolve()
+        check_output_target(out_dir)
     parent, name = out_dir.parent, out_dir.name
-    parent.mkdir(parents=True, exist_ok=True)
+    with _os_errors_named(out_dir, parent):
+        parent.mkdir(parents=True, exist_ok=True)
     with terminate_as_exit(), folder_lock(parent / f".{name}.lock", out_dir):
+        _check_no_run_in_progress(out_dir)  # again, holding our lock: no race with a new one
         for stale in parent.glob(f".{name}.partial-*"):  # killed runs': we hold the lock
-            shutil.rmtree(stale, ignore_errors=True)
+            _remove(stale)
         staging = parent / f".{name}.partial-{os.getpid()}-{uuid.uuid4().hex[:8]}"
-        staging.mkdir()
         try:
-            (staging / MARKER).write_text("written by drake_car; replaced whole by the next "
-                                          "run that writes here\n")
-            yield staging
+            with _os_errors_named(out_dir, parent):
+                staging.mkdir()
+                (staging / MARKER).write_text("written by drake_car; replaced whole by the "
+                                              "next run that writes here\n")
+            with _os_errors_named(out_dir, parent):
+                yield staging
             check_output_target(out_dir)  # still a folder we may replace
-            old = None
-            if out_dir.exists():
-                old = parent / f".{name}.partial-{os.getpid()}-old-{uuid.uuid4().hex[:8]}"
-                out_dir.rename(old)
-            staging.rename(out_dir)
+            with _os_errors_named(out_dir, parent):
+                old = None
+                if out_dir.exists():
+                    old = parent / f".{name}.partial-{os.getpid()}-old-{uuid.uuid4().hex[:8]}"
+                    out_dir.rename(old)
+                try:
+                    staging.rename(out_dir)
+                except OSError:
+                    if old is not None:
+                        old.rename(out_dir)  # put the previous output back
+                    raise
             if old is not None:
-                shutil.rmtree(old, ignore_errors=True)
+                _remove(old)
         finally:
             if staging.exists():
-                shutil.rmtree(staging, ignore_errors=True)
+                _remove(staging)
+
+
+def _remove(path):
+    if path.is_symlink() or not path.is_dir():
+        with contextlib.suppress(OSError):
+            path.unlink()
+    else:
+        shutil.rmtree(path, ignore_errors=True)
+
+
+def _ours(path, out_dir, parent):
+    """``path`` is the output, in it, one of its temporary names, or a folder above them."""
+    if parent.is_relative_to(path) or path.is_relative_to(out_dir):
+        return True
+    return path.is_relative_to(parent) and path.relative_to(parent).parts[0].startswith(
+        f".{out_dir.name}.")
+
+
+@contextlib.contextmanager
+def _os_errors_named(out_dir, parent):
+    """An OSError on a path under ``parent`` (the output, its temporary folders) becomes an
+    OutputError naming that path and the reason; others pass unchanged."""
+    try:
+        yield
+    except OSError as e:
+        where = next((Path(os.fsdecode(f)) for f in (e.filename, e.filename2)
+                      if f is not None), None)
+        if where is None or not _ours(where.absolute(), out_dir, parent):
+            raise
+        raise OutputError(f"--out {out_dir}: {where}: {e.strerror or e}") from None

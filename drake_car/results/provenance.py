@@ -2,6 +2,8 @@
 changes, drake_car's installed version) and the versions of what can change its bits."""
 
 import datetime
+import functools
+import hashlib
 import importlib.metadata
 import platform
 import subprocess
@@ -22,11 +24,29 @@ def provenance(**extra):
         "drake": _installed_version("drake") or "unknown",
         "python": platform.python_version(),
         "numpy": _installed_version("numpy") or "unknown",
+        "numba": _installed_version("numba") or "unknown",
+        "host": platform.node(),
         "machine": platform.machine(),
         "created_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
     info.update(extra)
     return info
+
+
+@functools.lru_cache(maxsize=1)
+def code_versions():
+    """What can change a run's bits, as this process runs it: drake_car's commit (or its
+    installed version outside a checkout), whether the checkout had uncommitted changes and a
+    hash of them (two different edits are two codes), drake's, numba's and numpy's versions."""
+    commit, dirty = source_checkout()
+    diff = None
+    if dirty:
+        package = Path(__file__).resolve().parents[1]
+        diff = hashlib.sha256((_git(package, "diff", "HEAD", "--", str(package)) or "")
+                              .encode()).hexdigest()[:16]
+    return {"drake_car": commit or _installed_version("drake_car"), "dirty": dirty,
+            "diff": diff, "drake": _installed_version("drake"),
+            "numba": _installed_version("numba"), "numpy": _installed_version("numpy")}
 
 
 def source_checkout():

@@ -18,7 +18,9 @@ from pydrake.common.yaml import yaml_dump_typed, yaml_load, yaml_load_typed
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.data import resource
-from drake_car.law.checks import ParameterError, checked, one_line
+from drake_car.law.checks import ParameterError, checked, excerpt, one_line
+from drake_car.scene.guard import (
+    PLAIN_NAME, YamlInputError, check_entry_name, check_yaml, read_yaml_file)
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene, default_plant_config
 
@@ -60,21 +62,23 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
     where = "scene defaults"
     if path is not None:
         path = Path(path)
-        entries = _read_entries(path)
+        text, data = _read_file(path)
+        entries = _entries(path, data)
         if child is None:
             if len(entries) != 1:
-                raise SceneError(f"{path}: holds the scenes {', '.join(entries)}; name one "
+                raise SceneError(f"{path}: holds the scenes {excerpt(entries)}; name one "
                                  f"(FILE:ENTRY)")
             child = entries[0]
         elif child not in entries:
-            raise SceneError(f"{path}: no scene {child!r}; it holds {', '.join(entries)}")
+            raise SceneError(f"{path}: no scene {excerpt(child)}; it holds "
+                             f"{', '.join(entries)[:300]}")
         where = f"{path} [{child}]"
-        raw = yaml_load(filename=str(path))[child]
-        _check_raw(raw, Scene, where, "")
-        scene = _typed(where, schema=Scene, filename=str(path), child_name=child,
-                       defaults=scene)
+        _check_raw(data[child], Scene, where, "")
+        _check_own_name(data[child], where)
+        scene = _typed(where, schema=Scene, data=text, child_name=child, defaults=scene)
     if scene_text:
-        where = f"{text_origin} {scene_text!r}"
+        where = f"{text_origin} {excerpt(scene_text)}"
+        _guarded(check_yaml, scene_text, where)
         try:
             raw = yaml_load(data=scene_text)
         except Exception as e:
@@ -82,6 +86,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
         if raw is None:
             raw = {}
         _check_raw(raw, Scene, where, "")
+        _check_own_name(raw, where)
         scene = _typed(where, schema=Scene, data=scene_text, defaults=scene)
     return check_scene(scene, where)
 
@@ -90,6 +95,20 @@ def load_scene_file(path, scene_text=None):
     """Every scene of a file (name -> Scene), each with ``scene_text`` on top."""
     return {child: load_scene(path, child=child, scene_text=scene_text)
             for child in _read_entries(Path(path))}
+
+
+def load_scene_text(text, where):
+    """The scene of a scene file's text holding one entry (``dump_scene_file``'s), checked."""
+    _guarded(check_yaml, text, where)
+    try:
+        data = yaml_load(data=text)
+    except Exception as e:
+        raise SceneError(f"{where}: not a YAML scene file: {one_line(e)}") from None
+    if not isinstance(data, dict) or len(data) != 1:
+        raise SceneError(f"{where}: must hold one scene")
+    (child,) = data
+    _check_raw(data[child], Scene, where, "")
+    return check_scene(_typed(where, schema=Scene, data=text, child_name=child), where)
 
 
 def parse_scene_option(text):
@@ -127,6 +146,18 @@ def shipped_scenes():
             path = Path(str(item))
             found += [(path, child) for child in _read_entries(path)]
     return found
+
+
+def _check_own_name(raw, where):
+    """A scene's own ``name:`` from outside (a file's entry, --scene_text) names folders and
+    files: a plain name only (the package's own scenes may name themselves freely)."""
+    if not isinstance(raw, dict) or "name" not in raw:
+        return
+    name = raw["name"]
+    if not isinstance(name, str) or not PLAIN_NAME.match(name) or ".." in name:
+        raise SceneError(f"{where}: name = {excerpt(name)} is not a plain name (letters, digits, "
+                         "_ . + = -; not starting with . or -; at most 100 characters); it "
+                         "names folders and files")
 
 
 def check_scene(scene: Scene, where="scene") -> Scene:
@@ -238,18 +269,34 @@ def _check_cross(scene: Scene):
 
 # -- raw YAML against the schema ------------------------------------------------------------
 
-def _read_entries(path: Path):
-    if path.is_dir():
-        raise SceneError(f"{path}: is a folder, not a scene file")
-    if not path.is_file():
-        raise SceneError(f"{path}: scene file not found")
+def _guarded(check, *args):
     try:
-        data = yaml_load(filename=str(path))
+        return check(*args)
+    except YamlInputError as e:
+        raise SceneError(str(e)) from None
+
+
+def _read_file(path: Path):
+    """(text, parsed YAML) of a scene file, bounded (``scene.guard``) before parsing."""
+    text = _guarded(read_yaml_file, path)
+    try:
+        data = yaml_load(data=text)
     except Exception as e:
         raise SceneError(f"{path}: not a YAML scene file: {one_line(e)}") from None
+    return text, data
+
+
+def _entries(path, data):
     if not isinstance(data, dict) or not data:
         raise SceneError(f"{path}: must map scene names to scenes")
-    return [name for name in data if not str(name).startswith("_")]
+    names = [name for name in data if not str(name).startswith("_")]
+    for name in names:
+        _guarded(check_entry_name, name, str(path))
+    return names
+
+
+def _read_entries(path: Path):
+    return _entries(path, _read_file(path)[1])
 
 
 def _typed(where, **kwargs):
@@ -274,7 +321,7 @@ def _check_raw(data, schema, where, key):
     """Walks raw YAML ``data`` against ``schema``; raises SceneError at the first key whose
     value cannot be what the schema asks."""
     def fail(value, requirement):
-        raise SceneError(f"{where}: {_name(key)} = {value!r} {requirement}")
+        raise SceneError(f"{where}: {_name(key)} = {excerpt(value)} {requirement}")
 
     origin = typing.get_origin(schema)
     if origin is typing.Union:
@@ -333,6 +380,6 @@ def _check_raw(data, schema, where, key):
             fail(value, f"must not carry a tag ({schema.__name__} has no variants)")
         if name not in fields:
             inner = f"{key}.{name}" if key else name
-            raise SceneError(f"{where}: unknown key {inner!r}"
+            raise SceneError(f"{where}: unknown key {excerpt(inner)}"
                              + (f"; {_name(key)} has {', '.join(fields)}" if fields else ""))
         _check_raw(value, fields[name], where, f"{key}.{name}" if key else name)

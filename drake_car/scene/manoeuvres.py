@@ -47,7 +47,9 @@ class Timeline:
             raise ParameterError("speed_kph", self.speed_kph,
                                  f"must be <= {MAX_SPEED_KPH:g} km/h (a passenger car)")
         if self.duration_s > MAX_DURATION_S:
-            raise ParameterError("calm_s", self.calm_s,
+            longest = max(("settle_s", "speed_up_s", "straight_s", "steer_s", "calm_s"),
+                          key=lambda name: getattr(self, name))  # the one that made it long
+            raise ParameterError(longest, getattr(self, longest),
                                  f"makes the run {self.duration_s:g} s long; runs are limited "
                                  f"to {MAX_DURATION_S:g} s of simulated time")
         return self

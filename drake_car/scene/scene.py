@@ -208,7 +208,9 @@ class Simulator:
     default, 1 ms, gives every step of an accuracy sweep the same initial state and keeps a
     microsecond-step run from settling for millions of steps). ``sap_pacer``: keep SAP from
     returning its initial guess near a balance (``systems.sap_pacer``). ``monitor_period_s``:
-    how often the divergence monitor checks the state."""
+    how often the divergence monitor checks the state. ``airborne_limit_s``: how long all four
+    wheels may stay off a flat road before the monitor stops the run (``sim.monitor``: 0.2 s is
+    a ballistic hop of g T² / 8 = 5 cm, which no drive on a flat road makes)."""
 
     end_time_s: typing.Optional[float] = None
     start: str = "static_equilibrium"
@@ -216,12 +218,13 @@ class Simulator:
     equilibrium_time_step_s: typing.Optional[float] = 1e-3
     sap_pacer: bool = True
     monitor_period_s: float = 0.01
+    airborne_limit_s: float = 0.2
 
     def check(self):
         if self.end_time_s is not None:
             positive(self, "end_time_s")
         one_of(self, "start", ("static_equilibrium", "design"))
-        positive(self, "equilibrium_settle_s", "monitor_period_s")
+        positive(self, "equilibrium_settle_s", "monitor_period_s", "airborne_limit_s")
         if self.equilibrium_time_step_s is not None:
             positive(self, "equilibrium_time_step_s")
             if self.equilibrium_time_step_s > 0.01:

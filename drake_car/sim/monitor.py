@@ -5,6 +5,20 @@ plant's state after each: a non-finite entry, or a generalized speed beyond
 ``MAX_GENERALIZED_SPEED``, stops the run with a ``DivergenceError`` that names the time, the
 quantity (the joint and its value) and the first system whose outputs are not finite.
 
+A run that stays finite can still have gone wrong (an explicitly applied tyre spring too stiff
+for the step pumps energy into the wheels until the car is thrown off the road, and the exact
+path an unstable run takes depends on the machine's floating point). Two more checks, with the
+car's tyres (``Road`` below), stop such a run:
+
+- Off the road: all four tyre loads zero, the car over the flat part of its road
+  (``flat_up_to_m``), for longer than ``simulator.airborne_limit_s``. On a flat road a car whose
+  wheels all stay off it for T has been thrown at least g T² / 8 up (a ballistic hop); the
+  default, 0.2 s, is a 5 cm hop, which no drive on a flat road makes.
+- Energy not given: the car's mechanical energy E (kinetic, gravity, coil springs, the tyres'
+  radial springs ½ k δ²) exceeds its value at the start plus the work every actuator could
+  have done (the drive's and the steering's: ∫ Σ |u_i v_i| dt over the actuated joints,
+  trapezoidal between checks) by more than ``ENERGY_SLACK_J``.
+
 Frozen steps: steps in which the car's generalized velocities did not change at all (bitwise):
 SAP returned its initial guess, dropping the step's impulses (``systems.sap_pacer``). The car's
 state is logged every step by a VectorLogSink (C++), counted and cleared after each chunk.
@@ -20,6 +34,12 @@ from drake_car.systems.failure import SimulationFailure
 # Limits a car on a road never reaches (generalized speeds in m/s or rad/s: a wheel at 250 km/h
 # spins at ~220 rad/s).
 MAX_GENERALIZED_SPEED = 500.0
+# The energy a run may gain beyond the work of its actuators before the monitor stops it: the
+# car's weight lifted by 5 cm (~640 J for the 1300 kg car) per tonne, i.e. g x 0.05 m per kg.
+# The explicit tyre spring's energy error in a sane run is a fraction of a wheel's hop energy
+# (½ k δ², δ ~ 1 cm: ~10 J at k = 2e5 N/m), the actuator work's trapezoid error second order
+# in the period; an unstable tyre spring gains this much in a few of its periods.
+ENERGY_SLACK_M = 0.05
 
 
 class DivergenceError(SimulationFailure):
@@ -27,18 +47,40 @@ class DivergenceError(SimulationFailure):
 
 
 @dataclasses.dataclass
+class Road:
+    """What the off-the-road and energy checks need of a car on tyres: the TyreSystem
+    (``tyre_loads``: four loads, four radial deflections), its radial stiffness, the road's
+    ``flat_up_to_m``, the car's chassis body (its origin at the front axle, ahead of every
+    wheel), the airborne limit (s)."""
+
+    tyre: object
+    radial_stiffness_Npm: float
+    flat_up_to_m: float
+    chassis: object
+    airborne_limit_s: float
+
+
+@dataclasses.dataclass
 class MonitorStats:
     frozen_steps: int = 0
     first_frozen_time_s: float | None = None
     steps: int = 0
+    energy_gain_J: float = -math.inf  # the largest gain beyond the actuators' work seen
 
 
 class Monitor:
     """Checks ``plant``'s state in ``diagram``; counts frozen steps from ``state_logger`` (a
     VectorLogSink of one model instance's state [q; v], sampled every step), when given."""
 
-    def __init__(self, plant, diagram, *, state_logger=None, instance=None):
+    def __init__(self, plant, diagram, *, state_logger=None, instance=None, road=None):
         self._plant, self._diagram = plant, diagram
+        self._road = road
+        self._airborne_since = None
+        self._energy = None  # [E at the start, actuator work so far, last power, last time]
+        if road is not None:
+            self._actuation = plant.MakeActuationMatrix()
+            self._slack_J = ENERGY_SLACK_M * 9.81 * plant.CalcTotalMass(
+                plant.CreateDefaultContext())
         self._logger = state_logger
         self._nq = plant.num_positions()
         self._nq_instance = plant.num_positions(instance) if instance is not None else 0
@@ -64,6 +106,8 @@ class Monitor:
         x = plant.GetPositionsAndVelocities(plant.GetMyContextFromRoot(root_context))
         v = x[self._nq:]
         if math.isfinite(x.dot(x)) and v.dot(v) < MAX_GENERALIZED_SPEED ** 2:
+            if self._road is not None:
+                self._check_road_and_energy(root_context, x)
             return
         t = root_context.get_time()
         bad = np.flatnonzero(~np.isfinite(x))
@@ -80,6 +124,46 @@ class Monitor:
             f"diverged at t = {t:.6f} s: {what}"
             + (f"; first system with non-finite outputs: {culprit}" if culprit else "")
             + "; a smaller plant.time_step or gentler inputs may help")
+
+    def _check_road_and_energy(self, root_context, x):
+        road, plant = self._road, self._plant
+        t = root_context.get_time()
+        loads = road.tyre.GetOutputPort("tyre_loads").Eval(
+            road.tyre.GetMyContextFromRoot(root_context))
+        pc = plant.GetMyContextFromRoot(root_context)
+        if (np.all(loads[:4] <= 0.0)
+                and road.chassis.EvalPoseInWorld(pc).translation()[0] <= road.flat_up_to_m):
+            if self._airborne_since is None:
+                self._airborne_since = t
+            elif t - self._airborne_since > road.airborne_limit_s:
+                raise DivergenceError(
+                    f"diverged at t = {t:.6f} s: left the road: all four tyre loads zero "
+                    f"since t = "
+                    f"{self._airborne_since:.6f} s on a flat road, beyond "
+                    f"simulator.airborne_limit_s = {road.airborne_limit_s:g} s; a smaller "
+                    "plant.time_step or a softer tyre may help")
+        else:
+            self._airborne_since = None
+        deflection = loads[4:8]
+        energy = (plant.EvalKineticEnergy(pc) + plant.EvalPotentialEnergy(pc)
+                  + 0.5 * road.radial_stiffness_Npm * float(deflection.dot(deflection)))
+        u = plant.get_net_actuation_output_port().Eval(pc)
+        power = float(np.abs(x[self._nq:] * (self._actuation @ u)).sum())
+        if self._energy is None:
+            self._energy = [energy, 0.0, power, t, t]
+            return
+        start, work, last_power, last_t, start_t = self._energy
+        work += 0.5 * (power + last_power) * (t - last_t)
+        self._energy = [start, work, power, t, start_t]
+        self.stats.energy_gain_J = max(self.stats.energy_gain_J, energy - start - work)
+        gain = energy - start - work
+        if gain > self._slack_J:
+            raise DivergenceError(
+                f"diverged at t = {t:.6f} s: gained energy: the car's mechanical energy is "
+                f"{energy:.6g} J, "
+                f"{gain:.4g} J above its {start:.6g} J at t = {start_t:.6f} s plus the "
+                f"{work:.4g} J its actuators could have given (allowed: {self._slack_J:.3g} J); "
+                "a smaller plant.time_step or a softer tyre may help")
 
     def _count_frozen(self, root_context):
         log = self._logger.FindMutableLog(root_context)

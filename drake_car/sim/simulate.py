@@ -3,8 +3,10 @@ state the scene asks for, runs under the divergence monitor with an optional pro
 and returns the logged history with the scene that ran, the Diagram's picture (Graphviz) and
 the replay page when the scene asks for one."""
 
+import contextlib
 import dataclasses
 import functools
+import signal
 import sys
 import time
 
@@ -21,7 +23,7 @@ from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
 from drake_car.sim.build import build_diagram
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
-from drake_car.sim.monitor import Monitor
+from drake_car.sim.monitor import Monitor, Road
 from drake_car.systems.tyre import WHEELS
 
 # Runs whose estimate exceeds this print it first.
@@ -129,7 +131,10 @@ class Runner:
             self.recorder = ReplayRecorder(meshcat, self.built, visual)
         self.monitor = Monitor(self.built.plant, self.built.diagram,
                                state_logger=self.built.velocity_logger,
-                               instance=self.built.car.instance)
+                               instance=self.built.car.instance, road=Road(
+                                   self.built.tyre, scene.car.tyre.radial_stiffness_Npm,
+                                   scene.road.flat_up_to_m(), self.built.car.body("chassis"),
+                                   scene.simulator.airborne_limit_s))
         self.progress = progress
         self.wall_s = 0.0
 
@@ -151,14 +156,17 @@ class Runner:
         bar = _progress_bar(self.scene, self.scene.end_time_s, now) if self.progress else None
         began = time.perf_counter()
         try:
-            for k in range(first, last + 1):
-                target = min(k * period, end)
-                self.simulator.AdvanceTo(target)
-                self.monitor.check(self.root)
-                if self.recorder is not None:
-                    self.recorder.frame(self.root)
-                if bar is not None:
-                    bar.update(target - bar.n)
+            with _deferred_signals() as caught:
+                for k in range(first, last + 1):
+                    target = min(k * period, end)
+                    self.simulator.AdvanceTo(target)
+                    if caught:
+                        break
+                    self.monitor.check(self.root)
+                    if self.recorder is not None:
+                        self.recorder.frame(self.root)
+                    if bar is not None:
+                        bar.update(target - bar.n)
         finally:
             self.wall_s += time.perf_counter() - began
             if bar is not None:
@@ -175,6 +183,31 @@ class Runner:
                    frozen_sap_steps=stats.frozen_steps,
                    first_frozen_sap_step_s=stats.first_frozen_time_s, steps=stats.steps,
                    final=final_state(built, root), diagram_dot=dot, replay_html=html)
+
+
+@contextlib.contextmanager
+def _deferred_signals():
+    """Ctrl-C and SIGTERM while the simulator steps are noted, not raised: raised inside one of
+    the Python systems Drake calls back from C++ (most land in the tyre system's update), a
+    KeyboardInterrupt crosses C++ as an exception where it can be lost (a run once finished
+    and exited 0 after SIGINT). The runner stops after the chunk it is in; the signal is then
+    raised again with the handlers that were there before (KeyboardInterrupt, or
+    ``results.folder.terminate_as_exit``'s SystemExit)."""
+    caught = []
+    signals = (signal.SIGINT, signal.SIGTERM)
+    try:
+        previous = {s: signal.signal(s, lambda signum, frame: caught.append(signum))
+                    for s in signals}
+    except ValueError:  # not the main thread: leave the signals alone
+        yield caught
+        return
+    try:
+        yield caught
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        if caught:
+            signal.raise_signal(caught[0])
 
 
 def static_equilibrium(scene: Scene) -> Equilibrium:

@@ -1,8 +1,9 @@
 """Runs many scenes on Dask and keeps each result as it completes (``sweep.runner``):
 
-  DIR/runs/<hash>/  each run by its scene's content hash: status.json (ok or failed, wall
-                    time, worker, error), scene.yaml (the scene as it ran), and for an ok run
-                    history.csv, run.json and run.pkl (the Run, pickled)
+  DIR/runs/<key>/   each run by its key (the scene's content, the files it reads, the code):
+                    status.json (ok or failed, wall time, worker, error, the files'
+                    checksums), scene.yaml (the scene as it ran), and for an ok run
+                    history.csv, run.json (the worker's provenance) and diagram.dot
   DIR/index.csv     hash, name, status, wall_s, error: a row per run
   DIR/sweep.json    how it was made: each invocation's command, options, scenes (name ->
                     hash), counts and wall time
@@ -30,6 +31,7 @@ and the others go on; the exit status is then 1.
 import contextlib
 import itertools
 import json
+import math
 import os
 import sys
 import time
@@ -44,8 +46,10 @@ from drake_car.results.folder import OutputError, terminate_as_exit
 from drake_car.results.provenance import provenance
 from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_scene_option
 from drake_car.scene.scene import MeshcatLive
-from drake_car.sweep.store import check_unlocked
+from drake_car.sim.simulate import estimate_wall_s
+from drake_car.sweep.store import check_layout, check_unlocked, read_sweep_log
 from drake_car.sweep.runner import cores, dask_client, missing, run_sweep
+from drake_car.sweep.scheduler import SCHEDULER_ADDRESS
 
 GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0.2)"
 
@@ -62,15 +66,20 @@ def main(argv=None):
     p.add_argument("--workers", type=cli.count, default=None,
                    help="worker processes of the local cluster (default: one per core)")
     p.add_argument("--rerun_failed", action="store_true", help="run the failed runs again")
+    p.add_argument("--large", action="store_true",
+                   help=f"go on with a --grid product over {GRID_MAX_SCENES} scenes")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     args = p.parse_args(argv)
     if args.scheduler and args.workers:
         p.error("--workers sizes the local cluster; a --scheduler cluster has its own workers")
+    if args.scheduler and not SCHEDULER_ADDRESS.match(args.scheduler):
+        _refuse_scheduler(args.scheduler, "not a Dask scheduler address; give tcp://HOST:PORT")
     grid = [_grid_option(p, item) for item in args.grid]
     if len({key for key, _ in grid}) < len(grid):
         p.error("--grid: a key is given twice")
     check_sweep_folder(args.out)
-    scenes = build_scenes(args.scenes, args.scene_text, grid)  # all checked, before any work
+    scenes = build_scenes(args.scenes, args.scene_text, grid,  # all checked, before any work
+                          large=args.large)
     for name, scene in scenes.items():
         if isinstance(scene.visualization, MeshcatLive):
             raise SceneError(f"scene {name}: visualization = !MeshcatLive: a sweep's runs are "
@@ -89,7 +98,7 @@ def main(argv=None):
             except (OSError, ValueError) as e:
                 if not args.scheduler:
                     raise
-                p.error(f"--scheduler {args.scheduler}: cannot connect ({one_line(e)})")
+                _refuse_scheduler(args.scheduler, e)
         workers = len(client.scheduler_info()["workers"]) if client else 0
         if client:
             print(f"on {workers} workers of {args.scheduler or 'a local cluster'}"
@@ -114,15 +123,57 @@ def main(argv=None):
         raise SystemExit(1)
 
 
-def build_scenes(scenes_option, scene_text, grid):
+def _refuse_scheduler(address, reason):
+    """One line, exit 2, before anything is written."""
+    print(f"error: --scheduler {address}: {one_line(reason)}", file=sys.stderr)
+    raise SystemExit(2)
+
+
+# A --grid product's size, checked before it is expanded: announced (with its estimate) past
+# GRID_ANNOUNCE_SCENES, refused past GRID_MAX_SCENES unless --large. Expanding costs about
+# GRID_SCENE_S and GRID_SCENE_BYTES a scene [EST: 28 ms and 15 kB (peak RSS growth) a scene,
+# measured for a 100-scene grid of paper_study a_1 on a loaded 2-core machine; issue 25 found
+# ~7 ms a scene, 10^6 scenes in ~2 h].
+GRID_ANNOUNCE_SCENES = 1_000
+GRID_MAX_SCENES = 20_000
+GRID_SCENE_S, GRID_SCENE_BYTES = 0.03, 15e3
+
+
+def check_grid_size(path, bases, scene_text, grid, *, large=False):
+    """Refuses (SceneError) a product of more than GRID_MAX_SCENES scenes unless ``large``,
+    and announces one of more than GRID_ANNOUNCE_SCENES on stderr, each with an estimate of
+    the time and memory to expand it and of its runs' wall time."""
+    sizes = [len(values) for _, values in grid]
+    n = len(bases) * math.prod(sizes)
+    if n <= GRID_ANNOUNCE_SCENES:
+        return
+    runs_s = n * estimate_wall_s(load_scene(path, child=bases[0], scene_text=scene_text or None))
+    what = (f"--grid: {n} scenes ({' x '.join(map(str, sizes))}"
+            + (f" x {len(bases)} entries" if len(bases) > 1 else "") + f"): about "
+            f"{_duration(n * GRID_SCENE_S)} and {n * GRID_SCENE_BYTES / 1e9:.2g} GB to expand, "
+            f"then about {_duration(runs_s)} of runs (one worker) [EST]")
+    if n > GRID_MAX_SCENES and not large:
+        raise SceneError(f"{what}: over the limit of {GRID_MAX_SCENES} scenes; give fewer "
+                         "values, or --large to go on")
+    print(f"{what}; going on", file=sys.stderr)
+
+
+def _duration(seconds):
+    return (f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
+            if seconds < 7200 else f"{seconds / 3600:.0f} h")
+
+
+def build_scenes(scenes_option, scene_text, grid, *, large=False):
     """name -> Scene: every entry of the scenes file (or FILE:ENTRY), ``scene_text`` laid over
-    each, then each point of ``grid`` ([(key, [value, ...])], their product); all checked."""
+    each, then each point of ``grid`` ([(key, [value, ...])], their product); all checked.
+    ``large``: go on with a product over GRID_MAX_SCENES (``check_grid_size``)."""
     path, child = parse_scene_option(scenes_option)
     if not grid and child is None:
         return load_scene_file(path, scene_text or None)
     if not grid:
         return {child: load_scene(path, child=child, scene_text=scene_text or None)}
     bases = [child] if child is not None else list(load_scene_file(path))
+    check_grid_size(path, bases, scene_text, grid, large=large)
     scenes = {}
     for point in itertools.product(*[[(key, v) for v in values] for key, values in grid]):
         text = overlay(scene_text, point)
@@ -174,6 +225,8 @@ def check_sweep_folder(out):
     if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
         raise OutputError(f"--out {out}: {probe} is not a writable folder")
     check_unlocked(out)
+    if out.is_dir():
+        check_layout(out)
 
 
 def _grid_option(p, item):
@@ -195,10 +248,7 @@ def _log_invocation(out, entry):
     """sweep.json's record of invocations with ``entry`` appended (written now: the folder is
     then a sweep's, resumable even if this one is killed)."""
     out.mkdir(parents=True, exist_ok=True)
-    try:
-        log = json.loads((out / "sweep.json").read_text())
-    except (OSError, ValueError):
-        log = {"invocations": []}
+    log = read_sweep_log(out)
     log["invocations"].append(entry)
     write_json(out / "sweep.json", log)
     return log

@@ -5,18 +5,24 @@ Where runs go: a ``LocalCluster`` started here, one single-threaded worker proce
 (``workers``), its scheduler, nannies, workers and dashboards all on 127.0.0.1 only; or any
 running cluster by its scheduler's address (``scheduler``; left running; its workers must be
 able to import drake_car). A scene travels as its YAML (Drake's configs do not pickle) and is
-loaded and checked on the worker; its ``Run`` comes back pickled (with its scene as YAML).
+loaded and checked on the worker; its ``Run`` comes back as its files' texts
+(``results.record.run_texts``: history.csv, scene.yaml, run.json with the provenance of the
+worker that ran it, diagram.dot), never a pickle.
 
-``run_sweep(scenes, out_dir)`` writes a results folder keyed by the scenes' content hashes
-(``scene_hash``: equal scenes make equal runs; two names with one hash run once)::
+``run_sweep(scenes, out_dir)`` writes a results folder keyed by each run's key
+(``sweep.store.run_key``: the scene's content hash, the content hash of the files it reads,
+the code and versions that run it; equal keys make equal runs, two names with one key run
+once; a worker whose code or files differ from the key's refuses the run, an infrastructure
+failure that names the difference)::
 
     DIR/runs/<hash>/status.json   hash, name(s), status (ok|failed), kind (a failed run's:
                                   run|infrastructure; else null), wall_s (the task on its
                                   worker: build, equilibrium unless cached, run), worker,
                                   finished_utc, error, traceback
     DIR/runs/<hash>/scene.yaml    the scene (rerun it: python -m drake_car.run --scene it)
-    DIR/runs/<hash>/history.csv, run.json   an ok run's files (``results.files.write_run``)
-    DIR/runs/<hash>/run.pkl       an ok run's ``Run`` as pickled (what a restart hands back)
+    DIR/runs/<hash>/history.csv, run.json, diagram.dot   an ok run's files (their sha256 in
+                                  status.json's "files": checked on resume, a damaged run is
+                                  run again; a folder with a *.pkl is refused)
     DIR/index.csv                 hash, name, status, wall_s, error: a row per run folder
 
 A run folder appears whole (``runs/.tmp-*`` renamed) as its run completes, and its row is
@@ -31,7 +37,8 @@ importable there), or its files could not be written (``commit_run``). A restart
 reuses every ok run and, unless ``rerun_failed``, every run failure; it runs the missing
 scenes and the infrastructure failures again (``missing``). A status.json without a kind
 (written before kinds were recorded) counts as a run failure. One sweep per folder at a time
-(``DIR/.sweep.lock``). ``run.json`` names the commit: a restart after a code change mixes them.
+(``DIR/.sweep.lock``). A restart under other code or files makes other keys: its scenes run
+again (the old runs are kept, and counted on stderr with what differs).
 """
 import contextlib
 import csv
@@ -48,17 +55,21 @@ from pathlib import Path
 from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.law.checks import one_line
+from drake_car.results.provenance import code_versions
+from drake_car.results.record import run_from_texts, run_texts
 from drake_car.scene.load import check_scene, dump_scene, scene_hash
 from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
+from drake_car.sweep.scheduler import CONNECT_TIMEOUT_S, check_scheduler
 from drake_car.sweep.store import (
-    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, commit_run, failure_kind, folder_lock,
-    load_run, read_status, rebuild_index, remove_stale)
+    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, check_layout, commit_run,
+    damage, failure_kind, files_read, folder_lock, key_parts, load_run, read_status,
+    rebuild_index, remove_stale, run_key)
+from drake_car.sweep.store import announce_other_code as _announce_other_code
 from drake_car.systems.failure import SimulationFailure
 
 LOOPBACK = "127.0.0.1"
-CONNECT_TIMEOUT_S = 10
 
 
 def cores():
@@ -80,6 +91,7 @@ def dask_client(scheduler=None, workers=None):
     ``workers`` started here and closed on exit. An unreachable scheduler raises OSError."""
     from distributed import Client
     if scheduler:
+        check_scheduler(scheduler)
         with Client(scheduler, timeout=CONNECT_TIMEOUT_S, set_as_default=False) as client:
             yield client
         return
@@ -92,7 +104,7 @@ def dask_client(scheduler=None, workers=None):
 def run_task(items):
     """Runs on a worker: the scenes of ``items`` ([(scene YAML, content hash), ...]), checked
     and simulated; scenes that share a prefix (``sim.branch``: a lane change's cases) run it
-    once. Returns, per item, {"run": the pickled Run (None if it raised), "wall_s", "worker",
+    once. Returns, per item, {"run": its files' texts (None if it raised), "wall_s", "worker",
     and if it raised "error" (type: message), "traceback" and "exception" (pickled, or None)}:
     a run's failure is a result (Dask neither retries nor logs it). When a family fails, its
     scenes are run one by one, so that only the failing one is recorded as failed."""
@@ -100,31 +112,45 @@ def run_task(items):
     worker = get_worker().address
     began = time.perf_counter()
     try:
-        scenes = [_scene_of(text, key) for text, key in items]
+        scenes = [_scene_of(text, parts) for text, parts in items]
+    except OtherCode as e:
+        return [_failed(e, began, worker) | {"kind": INFRASTRUCTURE_FAILURE}] * len(items)
+    try:
         runs = simulate_family(scenes) if len(scenes) > 1 else [simulate(scenes[0])]
         wall = (time.perf_counter() - began) / len(runs)
-        return [{"run": pickle.dumps(run, protocol=pickle.HIGHEST_PROTOCOL), "wall_s": wall,
-                 "worker": worker} for run in runs]
+        return [{"run": run_texts(run, worker=worker), "wall_s": wall, "worker": worker}
+                for run in runs]
     except Exception as e:
         if len(items) == 1:
             return [_failed(e, began, worker)]
     results = []
-    for text, key in items:
+    for scene in scenes:
         began = time.perf_counter()
         try:
-            run = simulate(_scene_of(text, key))
-            results.append({"run": pickle.dumps(run, protocol=pickle.HIGHEST_PROTOCOL),
+            results.append({"run": run_texts(simulate(scene), worker=worker),
                             "wall_s": time.perf_counter() - began, "worker": worker})
         except Exception as e:
             results.append(_failed(e, began, worker))
     return results
 
 
-def _scene_of(text, expected_hash):
+class OtherCode(RuntimeError):
+    """A worker's code, versions or files differ from what the run's key was made of."""
+
+
+def _scene_of(text, parts):
     scene = check_scene(yaml_load_typed(schema=Scene, data=text))
-    if scene_hash(scene) != expected_hash:
+    if scene_hash(scene) != parts["scene_hash"]:
         raise RuntimeError(f"the scene's YAML loads back as {scene_hash(scene)}, "
-                           f"not {expected_hash}")
+                           f"not {parts['scene_hash']}")
+    here = {"code": code_versions(), "files": files_read(scene)}
+    for what in ("code", "files"):
+        if here[what] != parts[what]:
+            differ = {k: (parts[what].get(k), here[what].get(k))
+                      for k in parts[what].keys() | here[what].keys()
+                      if parts[what].get(k) != here[what].get(k)}
+            raise OtherCode(f"this worker's {what} differ from the sweep's (sweep, worker): "
+                            f"{differ}"[:400])
     return scene
 
 
@@ -147,21 +173,24 @@ def _pickled(error):
 
 @dataclasses.dataclass
 class Job:
-    """One distinct run: its content hash, the names it goes by, its scene (the first name)."""
+    """One distinct run: its key (``run_key``), the names it goes by, its scene (the first
+    name), what its key is made of (``key_parts``)."""
     hash: str
     names: list
     scene: Scene
+    parts: dict = None
 
 
 def jobs_of(scenes: dict):
-    """hash -> Job for name -> Scene, in the scenes' order."""
+    """key -> Job for name -> Scene, in the scenes' order."""
     jobs = {}
     for name, scene in scenes.items():
-        key = scene_hash(scene)
+        parts = key_parts(scene)
+        key = run_key(parts)
         if key in jobs:
             jobs[key].names.append(name)
         else:
-            jobs[key] = Job(key, [name], scene)
+            jobs[key] = Job(key, [name], scene, parts)
     return jobs
 
 
@@ -184,7 +213,7 @@ def compute(client, jobs, done, *, progress=True, desc="sweep"):
     from tqdm import tqdm
     token = uuid.uuid4().hex[:8]  # distinct task keys for each sweep on a shared scheduler
     tasks = tasks_of(jobs)
-    futures = client.map(run_task, [[(dump_scene(j.scene), j.hash) for j in task]
+    futures = client.map(run_task, [[(dump_scene(j.scene), j.parts) for j in task]
                                     for task in tasks],
                          key=[f"run-{task[0].hash}-{len(task)}-{token}" for task in tasks],
                          pure=False)
@@ -217,7 +246,8 @@ def _record(job, result):
     """(status record, the pickled Run or the error) of what Dask gave for ``job``: a failure
     of kind ``RUN_FAILURE`` when run_task returned its error, else ``INFRASTRUCTURE_FAILURE``
     (Dask gave no result dict: KilledWorker, cancelled, ...)."""
-    record = {"hash": job.hash, "name": job.names[0], "names": job.names, "status": "failed",
+    record = {"hash": job.hash, "key": job.parts, "name": job.names[0], "names": job.names,
+              "status": "failed",
               "kind": INFRASTRUCTURE_FAILURE, "wall_s": None, "worker": "", "error": "",
               "traceback": "",
               "finished_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(
@@ -228,7 +258,7 @@ def _record(job, result):
         if result["run"] is not None:
             record.update(status="ok", kind=None)
             return record, result["run"]
-        record["kind"] = RUN_FAILURE
+        record["kind"] = result.get("kind") or RUN_FAILURE
         return record, result["exception"]
     if isinstance(result, tuple):  # as_completed gives (type, error, traceback)
         result = result[1]
@@ -263,8 +293,18 @@ def missing(scenes, out_dir, *, rerun_failed=False):
     """The Jobs of ``scenes`` to run: those ``out_dir`` has no run folder for, or one that
     failed of kind ``INFRASTRUCTURE_FAILURE``, or (``rerun_failed``) any failed one."""
     runs = Path(out_dir) / "runs"
-    return [job for job in jobs_of(scenes).values()
-            if not kept(read_status(runs / job.hash), rerun_failed=rerun_failed)]
+    jobs = jobs_of(scenes)
+    todo = []
+    for job in jobs.values():
+        record = read_status(runs / job.hash)
+        why = damage(runs / job.hash, record)
+        if why:
+            announce(f"{runs / job.hash}: {why}; run again")
+            record = None
+        if not kept(record, rerun_failed=rerun_failed):
+            todo.append(job)
+    _announce_other_code(runs, {job.parts["scene_hash"]: job for job in todo})
+    return todo
 
 
 def kept(record, *, rerun_failed=False):
@@ -287,6 +327,7 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
     out = Path(out_dir)
     runs = out / "runs"
     jobs = jobs_of(scenes)
+    check_layout(out)
     runs.mkdir(parents=True, exist_ok=True)
     counts = {"ok": 0, "failed": 0, "reused": 0}
     status = {}
@@ -333,13 +374,14 @@ def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
         results = {key: load_run(out_dir, key) for key in jobs}
     else:
         def keep(job, record, result):
-            results[job.hash] = (record, pickle.loads(result) if record["status"] == "ok"
+            results[job.hash] = (record, run_from_texts(result) if record["status"] == "ok"
                                  else result)
         with dask_client(scheduler, min(workers or cores(), len(jobs))) as client:
             compute(client, list(jobs.values()), keep, progress=progress, desc="runs")
     runs = {}
+    key_of = {name: key for key, job in jobs.items() for name in job.names}
     for name, scene in scenes.items():
-        record, run = results[scene_hash(scene)]
+        record, run = results[key_of[name]]
         if record["status"] != "ok":
             raise failure(name, record, run)
         runs[name] = run if run.scene.name == name else dataclasses.replace(run, scene=scene)

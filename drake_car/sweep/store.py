@@ -5,19 +5,26 @@ simulation raised: kept) or "infrastructure" (Dask gave no result, or its files 
 written: the next sweep runs it again); one without a kind counts as "run"."""
 
 import csv
+import hashlib
 import io
 import json
-import pickle
 import shutil
+import sys
 import traceback
 import uuid
 from pathlib import Path
 
-from drake_car.results.files import write_run, write_text
+from drake_car.law.tyre.tir import read_tir_bytes
+from drake_car.model.loading import tir_path
+from drake_car.results.files import write_text
 from drake_car.results.folder import OutputError
 from drake_car.results.folder import folder_lock as results_folder_lock
 from drake_car.results.lock import holder
-from drake_car.scene.load import dump_scene_file
+from drake_car.results.provenance import code_versions
+from drake_car.results.record import (
+    RUN_FILES, checksums, read_texts, refuse_pickles, run_from_texts)
+from drake_car.scene.load import dump_scene_file, scene_hash
+from drake_car.scene.scene import TirTyre
 
 INDEX_FIELDS = ("hash", "name", "status", "wall_s", "error")
 # A failed run's kind (its status.json's "kind"): the run itself raised (kept: a run is a pure
@@ -26,12 +33,63 @@ RUN_FAILURE = "run"
 INFRASTRUCTURE_FAILURE = "infrastructure"
 
 
+def files_read(scene):
+    """path -> sha256 of every file ``scene``'s run reads beyond the package's code and data
+    (its .tir file; the model files are the package's, under its commit): a missing or bad
+    file raises TirFileError naming it, before any run."""
+    files = {}
+    if isinstance(scene.tyres, TirTyre):
+        path = tir_path(scene.tyres.tir_file)
+        files[scene.tyres.tir_file] = hashlib.sha256(read_tir_bytes(path)).hexdigest()
+    return files
+
+
+def key_parts(scene):
+    """What a run's key is made of: the scene's content hash, the content of the files it
+    reads (``files_read``) and the code that runs it (``results.provenance.code_versions``)."""
+    return {"scene_hash": scene_hash(scene), "files": files_read(scene),
+            "code": code_versions()}
+
+
+def run_key(parts):
+    """A run folder's name: the hash of its ``key_parts`` (equal keys make equal runs)."""
+    text = json.dumps(parts, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
 def read_status(folder):
-    """A run folder's status.json (None when missing or unreadable)."""
+    """A run folder's status.json (None when missing, unreadable or not a status record)."""
     try:
-        return json.loads((Path(folder) / "status.json").read_text())
+        record = json.loads((Path(folder) / "status.json").read_text())
     except (OSError, ValueError):
         return None
+    if not (isinstance(record, dict) and record.get("status") in ("ok", "failed")
+            and isinstance(record.get("hash"), str)):
+        return None
+    return record
+
+
+def damage(folder, record):
+    """Why finished run ``folder`` cannot be reused (None if it can): a file missing or not
+    matching the checksum recorded when it was committed, a pickle in it, no status."""
+    folder = Path(folder)
+    if record is None:
+        return "status.json missing or damaged" if folder.exists() else None
+    if any(folder.glob("*.pkl")):
+        return "holds a pickle (never loaded)"
+    if record["status"] != "ok":
+        return None
+    recorded = record.get("files")
+    if not isinstance(recorded, dict) or not set(RUN_FILES) <= set(recorded):
+        return "no checksums recorded"
+    try:
+        found = checksums(read_texts(folder, tuple(recorded)))
+    except OutputError as e:
+        return str(e)
+    for name, digest in recorded.items():
+        if found.get(name) != digest:
+            return f"{name} {'missing' if name not in found else 'changed since its commit'}"
+    return None
 
 
 def failure_kind(record):
@@ -45,34 +103,81 @@ def rebuild_index(out_dir):
     out = Path(out_dir)
     rows = [s for d in (out / "runs").iterdir()
             if not d.name.startswith(".") and (s := read_status(d))]
-    rows.sort(key=lambda s: (s.get("finished_utc", ""), s["hash"]))
+    rows.sort(key=lambda s: (str(s.get("finished_utc", "")), s["hash"]))
     buffer = io.StringIO(newline="")
     writer = csv.DictWriter(buffer, INDEX_FIELDS, extrasaction="ignore")
     writer.writeheader()
     writer.writerows(rows)
+    if (out / "index.csv").exists() and not (out / "index.csv").is_file():
+        raise OutputError(f"{out / 'index.csv'}: is not a file; remove it (the index is "
+                          "rebuilt from runs/)")
     write_text(out / "index.csv", buffer.getvalue())
+
+
+def check_layout(out):
+    """Refuses a sweep folder whose bookkeeping is damaged, naming the file and the repair
+    (nothing is silently replaced): runs/ not a folder, index.csv not a file, a pickle in it,
+    sweep.json not a record of invocations."""
+    out = Path(out)
+    runs = out / "runs"
+    if runs.exists() and not runs.is_dir():
+        raise OutputError(f"{runs}: is not a folder; move it away (a sweep keeps its runs "
+                          "there)")
+    if (out / "index.csv").exists() and not (out / "index.csv").is_file():
+        raise OutputError(f"{out / 'index.csv'}: is not a file; remove it (the index is "
+                          "rebuilt from runs/)")
+    refuse_pickles(out)
+    read_sweep_log(out)
+
+
+def read_sweep_log(out):
+    """sweep.json's record of invocations ({"invocations": []} when there is none); one that
+    is not such a record is named, never replaced."""
+    path = Path(out) / "sweep.json"
+    if not path.exists():
+        return {"invocations": []}
+    try:
+        log = json.loads(path.read_text())
+    except (OSError, ValueError) as e:
+        raise OutputError(f"{path}: not readable JSON ({type(e).__name__}); repair or move it "
+                          "away (it records this sweep's invocations; the runs do not need "
+                          "it)") from None
+    if not (isinstance(log, dict) and isinstance(log.get("invocations"), list)):
+        raise OutputError(f"{path}: not a sweep's record (no list of invocations); repair or "
+                          "move it away (the runs do not need it)")
+    return log
 
 
 def load_run(out_dir, key):
     """(status record, the Run or None) of run folder ``key`` of ``out_dir``."""
     folder = Path(out_dir) / "runs" / key
+    refuse_pickles(folder)
     record = read_status(folder)
     if record is None:
         raise OutputError(f"{folder}: no run there (no readable status.json)")
-    run = pickle.loads((folder / "run.pkl").read_bytes()) if record["status"] == "ok" else None
-    return record, run
+    if record["status"] != "ok":
+        return record, None
+    why = damage(folder, record)
+    if why:
+        raise OutputError(f"{folder}: {why}; run the sweep again (damaged runs are rerun)")
+    return record, run_from_texts(read_texts(folder), str(folder))
 
 
 def commit_run(runs, job, record, result):
-    """Writes one run's folder as ``runs/.tmp-*`` and renames it to ``runs/<hash>``. An ok run
-    whose files cannot be written is recorded as failed, of kind ``INFRASTRUCTURE_FAILURE``."""
+    """Writes one run's folder as ``runs/.tmp-*`` and renames it to ``runs/<hash>``: an ok
+    run's ``result`` is its files' texts (``results.record.run_texts``, made on the worker),
+    their checksums go into status.json ("files"). An ok run whose files cannot be written is
+    recorded as failed, of kind ``INFRASTRUCTURE_FAILURE``."""
     tmp = runs / f".tmp-{job.hash}-{uuid.uuid4().hex[:8]}"
     try:
         tmp.mkdir()
         if record["status"] == "ok":
             try:
-                write_run(pickle.loads(result), tmp, diagram=False)
-                (tmp / "run.pkl").write_bytes(result)
+                if not (isinstance(result, dict) and set(RUN_FILES) <= set(result)):
+                    raise ValueError("the worker sent no run files")
+                for name, text in result.items():
+                    (tmp / Path(name).name).write_text(text)
+                record["files"] = checksums(result)
             except Exception as e:  # this run fails, not the sweep
                 shutil.rmtree(tmp)
                 tmp.mkdir()
@@ -95,6 +200,10 @@ def commit_run(runs, job, record, result):
         raise
 
 
+def announce(message):
+    print(message, file=sys.stderr)
+
+
 def remove_stale(runs):
     for path in runs.glob(".tmp-*"):
         shutil.rmtree(path, ignore_errors=True)
@@ -111,3 +220,24 @@ def check_unlocked(out):
 def folder_lock(out):
     """The sweep folder's lock (``results.lock``): one sweep writes to a folder at a time."""
     return results_folder_lock(Path(out) / ".sweep.lock", out, what="sweep")
+
+
+def announce_other_code(runs, todo):
+    """Says which of the runs to do ``out`` already holds, made by other code or files."""
+    if not todo or not runs.is_dir():
+        return
+    other = {}
+    for folder in runs.iterdir():
+        record = read_status(folder)
+        parts = (record or {}).get("key")
+        if isinstance(parts, dict) and parts.get("scene_hash") in todo:
+            mine = todo[parts["scene_hash"]].parts
+            for what in ("code", "files"):
+                if isinstance(parts.get(what), dict) and parts[what] != mine[what]:
+                    names = sorted(k for k in parts[what].keys() | mine[what].keys()
+                                   if parts[what].get(k) != mine[what].get(k))
+                    other.setdefault(f"{what} ({', '.join(names)[:200]})", set()).add(
+                        parts["scene_hash"])
+    for what, scenes in other.items():
+        announce(f"{runs}: {len(scenes)} of these scenes were run before by other {what}; "
+                 "they run again under this one (the old runs are kept)")

@@ -73,6 +73,10 @@ def shape(x, kind):
     return x * x * (3.0 - 2.0 * x) if kind == "cubic" else x
 
 
+# A normal force no strut of a car reaches (N): 10^4 times a 1300 kg car's weight.
+MAX_NORMAL_FORCE_N = 1e8
+
+
 def shape_max_slope(kind):
     """max ds/dx of the shape: 1.5 for the cubic STEP, 1 for linear."""
     return 1.5 if kind == "cubic" else 1.0
@@ -211,6 +215,21 @@ class StrutFrictionParameters:
         one_of(self, "beta_shape", SHAPES)
         one_of(self, "creep_shape", SHAPES)
         one_of(self, "normal_force_form", NORMAL_FORCE_FORMS)
+        # The fast scheme's PD gains per newton of normal force (law.friction.compiled):
+        # slope / dv (damping) and slope mu_s / dmax (stiffness); times a normal force up to
+        # MAX_NORMAL_FORCE_N they must stay below 1e308, finite (5e-324 made inf inside Drake).
+        for name, shape, factor in (("dv_translation_mps", self.beta_shape, 1.0),
+                                    ("dv_rotation_radps", self.beta_shape, 1.0),
+                                    ("dmax_translation_m", self.creep_shape, self.mu_s),
+                                    ("dmax_rotation_rad", self.creep_shape, self.mu_s)):
+            value = getattr(self, name)
+            slope = shape_max_slope(shape) * max(factor, 1.0)
+            least = slope * MAX_NORMAL_FORCE_N / 1e308  # float's largest is 1.8e308
+            if value < least:
+                raise ParameterError(name, value,
+                                     f"is too small: the PD gain it makes ({slope:g} / {name} "
+                                     f"per newton, up to {MAX_NORMAL_FORCE_N:g} N) would not be "
+                                     f"a finite number; it must be >= {least:.3g}")
         for name in ("preload_force_N", "preload_moment_Nm"):
             if getattr(self, name) > 0 and self.mu_s == 0:
                 raise ParameterError(name, getattr(self, name),

@@ -17,6 +17,12 @@ MAX_SLOPE = 0.3
 # A road that is not a road: profiles are bounded to ±1 m of height and 10 km of length.
 MAX_HEIGHT_M = 1.0
 MAX_LENGTH_M = 1e4
+# Samples of a !SampledProfile: 10^7 took ~30 min and 17 GB to load and settle (issue 25, main
+# f5ab02c), i.e. ~0.2 ms and ~1.7 kB a sample [EST: scaled from that one measurement]; 10^5
+# samples (~20 s, ~170 MB; 1 m stations over 100 km, or 1 cm over 1 km) bound that. A scene
+# file's size limit (scene.guard) holds about as many written out.
+MAX_ROAD_SAMPLES = 100_000
+ROAD_SAMPLE_S, ROAD_SAMPLE_BYTES = 2e-4, 1.7e3
 
 
 @dataclasses.dataclass
@@ -86,6 +92,14 @@ class SampledProfile:
     z_right_m: typing.List[float] = dataclasses.field(default_factory=list)
 
     def check(self):
+        for name in ("x_m", "z_m", "z_right_m"):
+            n = len(getattr(self, name))
+            if n > MAX_ROAD_SAMPLES:
+                raise ParameterError(name, f"{n} samples",
+                                     f"is over the limit of {MAX_ROAD_SAMPLES} samples (about "
+                                     f"{n * ROAD_SAMPLE_S:.0f} s and "
+                                     f"{n * ROAD_SAMPLE_BYTES / 1e9:.1f} GB to load and settle "
+                                     "[EST]); resample the profile more coarsely")
         x = list(self.x_m)
         tracks = {"z_m": list(self.z_m)}
         if len(self.z_right_m):

@@ -5,11 +5,13 @@ table sections and the units: ``law.tyre.property_file``); it raises ``TirFileEr
 file and the line for anything it cannot read.
 """
 
+import os
+import stat
 from pathlib import Path
 
 from drake_car.law.tyre.property_file import TirFileError, parse
 
-__all__ = ["TirFileError", "parse_tir", "read_tir", "format_tir"]
+__all__ = ["TirFileError", "parse_tir", "read_tir", "read_tir_bytes", "format_tir"]
 _SI_NAMES = {"LENGTH": "meter", "FORCE": "newton", "ANGLE": "radian", "MASS": "kg",
              "TIME": "second", "PRESSURE": "pascal"}
 
@@ -21,16 +23,42 @@ def parse_tir(text, name="<tir text>"):
 
 def read_tir(path):
     path = Path(path)
-    if path.is_dir():
-        raise TirFileError(f"{path}: is a folder, not a tyre property file")
-    if not path.is_file():
-        raise TirFileError(f"{path}: tyre property file not found")
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_tir_bytes(path).decode("utf-8")
     except UnicodeDecodeError as e:
         raise TirFileError(f"{path}: not a text file (byte {e.start} is not UTF-8); a .tir "
                            "file is plain text") from None
     return parse_tir(text, str(path))
+
+
+# A .tir file's size limit: a Magic Formula file is 10-30 kB (the shipped one 13 kB).
+MAX_TIR_BYTES = 1_000_000
+
+
+def read_tir_bytes(path):
+    """The bytes of tyre property file ``path``: a regular file of at most MAX_TIR_BYTES, read
+    no further than that (a device, a FIFO, a folder or a bigger file: TirFileError)."""
+    path = Path(path)
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except FileNotFoundError:
+        raise TirFileError(f"{path}: tyre property file not found") from None
+    except OSError as e:
+        raise TirFileError(f"{path}: cannot be opened: {e.strerror or e}") from None
+    kind = os.fstat(fd).st_mode
+    if not stat.S_ISREG(kind):
+        os.close(fd)
+        raise TirFileError(f"{path}: is a folder, not a tyre property file" if stat.S_ISDIR(kind)
+                           else f"{path}: not a regular file; a .tir file is plain text")
+    with os.fdopen(fd, "rb") as f:
+        try:
+            data = f.read(MAX_TIR_BYTES + 1)
+        except OSError as e:
+            raise TirFileError(f"{path}: cannot be read: {e.strerror or e}") from None
+    if len(data) > MAX_TIR_BYTES:
+        raise TirFileError(f"{path}: over {MAX_TIR_BYTES} bytes; a .tir file is at most "
+                           f"{MAX_TIR_BYTES} bytes (Magic Formula files are 10-30 kB)")
+    return data
 
 
 def format_tir(tir, header=""):

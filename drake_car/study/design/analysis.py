@@ -4,14 +4,13 @@ Monte Carlo and mitigations, the numerical noise), with the figures written besi
 
 import math
 
-from drake_car.scene.load import scene_hash
 from drake_car.results.provenance import provenance
 from drake_car.study.design import figures
 from drake_car.study.design import report
 from drake_car.study.design import runs as runs_of
 from drake_car.study.design import tables
 from drake_car.study.design.spec import OUTCOMES, factor, outcomes, paper_value, value_of
-from drake_car.sweep.store import load_run, read_status
+from drake_car.sweep.store import key_parts, load_run, read_status, run_key
 
 
 def table(study, parts, sweep_dir):
@@ -21,7 +20,7 @@ def table(study, parts, sweep_dir):
     rows = []
     for role, part in parts.items():
         for name, (scene, values) in part.items():
-            key = scene_hash(scene)
+            key = run_key(key_parts(scene))
             status = (read_status(sweep_dir / "runs" / key) or {}).get("status", "missing")
             row = {"name": name, "role": role, "hash": key, "status": status}
             row |= {k: value_of(scene, k) for k in keys}
