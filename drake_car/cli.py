@@ -1,5 +1,8 @@
-"""What every command shares: the scene options, the one validation path, and bad input
-reported as one line on stderr with exit status 2 (no traceback), nothing left behind.
+"""What every command shares: the scene options, the one validation path, bad input reported
+as one line on stderr with exit status 2 (no traceback), nothing left behind, and logging:
+library code logs through ``logging`` (the ``drake_car`` loggers); every command's parser has
+``--quiet`` (warnings only, no progress bars) and ``--verbose`` (debug messages) and sets the
+loggers up when it parses, writing through tqdm so that messages do not break a progress bar.
 
 Bad input is any ``ValueError`` the project raises for a value it refuses (a scene key, a
 parameter, a tyre or model file, an output folder, a step above a stability limit) and a
@@ -7,6 +10,7 @@ simulation that cannot go on (``SimulationFailure``: divergence, a rod out of it
 """
 
 import argparse
+import logging
 import sys
 from pathlib import Path
 
@@ -24,11 +28,54 @@ BAD_INPUT = (SceneError, ParameterError, TirFileError, ModelFileError, Kinematic
              OutputError, BuildError, StudyError, SimulationFailure)
 
 
+class _TqdmHandler(logging.Handler):
+    """Writes log records to stderr through ``tqdm.write`` (above any progress bar)."""
+
+    def emit(self, record):
+        from tqdm import tqdm
+        try:
+            tqdm.write(self.format(record), file=sys.stderr)
+        except Exception:
+            self.handleError(record)
+
+
+class _Formatter(logging.Formatter):
+    def format(self, record):
+        text = record.getMessage()
+        return text if record.levelno == logging.INFO else f"{record.levelname.lower()}: {text}"
+
+
+def configure_logging(*, quiet=False, verbose=False):
+    """The ``drake_car`` loggers to stderr: info (default), warnings only (``quiet``) or debug
+    (``verbose``)."""
+    logger = logging.getLogger("drake_car")
+    logger.setLevel(logging.DEBUG if verbose else logging.WARNING if quiet else logging.INFO)
+    logger.propagate = False
+    if not any(isinstance(h, _TqdmHandler) for h in logger.handlers):
+        handler = _TqdmHandler()
+        handler.setFormatter(_Formatter())
+        logger.addHandler(handler)
+
+
+class CommandParser(argparse.ArgumentParser):
+    """An ArgumentParser that sets up logging from ``--quiet``/``--verbose`` when it parses."""
+
+    def parse_known_args(self, args=None, namespace=None):
+        parsed, rest = super().parse_known_args(args, namespace)
+        configure_logging(quiet=getattr(parsed, "quiet", False),
+                          verbose=getattr(parsed, "verbose", False))
+        return parsed, rest
+
+
 def parser(doc, *, out=True, prog=None):
-    """An ArgumentParser with the script's docstring and (``out``) a required ``--out``;
-    ``prog``: the command's name in its usage line (default: the script's file name)."""
-    p = argparse.ArgumentParser(description=doc, prog=prog,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    """A command's parser: the script's docstring, ``--quiet``/``--verbose`` (logging and
+    progress bars) and (``out``) a required ``--out``; ``prog``: the command's name in its
+    usage line (default: the script's file name)."""
+    p = CommandParser(description=doc, prog=prog, conflict_handler="resolve",
+                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--quiet", action="store_true",
+                   help="warnings and errors only, no progress bars")
+    p.add_argument("--verbose", action="store_true", help="debug messages too")
     if out:
         p.add_argument("--out", type=Path, required=True,
                        help="output folder (written all or nothing; replaced whole)")

@@ -29,7 +29,6 @@ def main(argv=None):
     p.add_argument("--scene", required=True, help="scene file, optionally FILE:ENTRY")
     p.add_argument("--child", default=None, help="the entry of the scene file to run")
     p.add_argument("--scene_text", default="", help="YAML laid over the scene")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
     args = p.parse_args(argv)
     path, child = parse_scene_option(args.scene)
     if args.child is not None:

@@ -3,6 +3,7 @@ state the scene asks for, runs under the divergence monitor with an optional pro
 and returns the logged history with the scene that ran, the Diagram's picture (Graphviz) and
 the replay page when the scene asks for one."""
 
+import logging
 import contextlib
 import dataclasses
 import functools
@@ -25,6 +26,8 @@ from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
 from drake_car.sim.monitor import Monitor, Road
 from drake_car.systems.tyre import WHEELS
+
+log = logging.getLogger(__name__)
 
 # Runs whose estimate exceeds this print it first.
 ANNOUNCE_WALL_S = 60.0
@@ -113,7 +116,7 @@ class Runner:
             from drake_car.sim.replay import start_meshcat
             meshcat = start_meshcat()
             if isinstance(visual, MeshcatLive):
-                print(f"Meshcat: {meshcat.web_url()}", file=sys.stderr)
+                log.info("Meshcat: %s", meshcat.web_url())
         self.built = built or build_diagram(scene, meshcat=meshcat if shows else None,
                                             branchable=branchable)
         if context is None:
@@ -143,9 +146,8 @@ class Runner:
         _set_initial_state(self.built, self.root, self.scene)
         estimate = estimate_wall_s(self.scene)
         if self.progress and estimate > ANNOUNCE_WALL_S:
-            print(f"{self.scene.name}: {self.scene.end_time_s:g} s at "
-                  f"{self.scene.time_step_s:g} s steps, about {estimate / 60:.0f} min of wall "
-                  "time", file=sys.stderr)
+            log.info("%s: %g s at %g s steps, about %.0f min of wall time", self.scene.name,
+                     self.scene.end_time_s, self.scene.time_step_s, estimate / 60)
         self.simulator.Initialize()
 
     def advance_to(self, end):
@@ -288,3 +290,4 @@ def final_state(built, root):
             np.max(np.abs(plant.GetVelocities(pc, car.instance)))),
         "positions": plant.GetPositions(pc, car.instance).tolist(),
     }
+

@@ -30,7 +30,6 @@ and the others go on; the exit status is then 1.
 
 import contextlib
 import itertools
-import json
 import math
 import os
 import sys
@@ -68,7 +67,6 @@ def main(argv=None):
     p.add_argument("--rerun_failed", action="store_true", help="run the failed runs again")
     p.add_argument("--large", action="store_true",
                    help=f"go on with a --grid product over {GRID_MAX_SCENES} scenes")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
     args = p.parse_args(argv)
     if args.scheduler and args.workers:
         p.error("--workers sizes the local cluster; a --scheduler cluster has its own workers")

@@ -4,12 +4,12 @@ completes), the index rebuilt from them, a lock so that one sweep writes at a ti
 simulation raised: kept) or "infrastructure" (Dask gave no result, or its files could not be
 written: the next sweep runs it again); one without a kind counts as "run"."""
 
+import logging
 import csv
 import hashlib
 import io
 import json
 import shutil
-import sys
 import traceback
 import uuid
 from pathlib import Path
@@ -25,6 +25,8 @@ from drake_car.results.record import (
     RUN_FILES, checksums, read_texts, refuse_pickles, run_from_texts)
 from drake_car.scene.load import dump_scene_file, scene_hash
 from drake_car.scene.scene import TirTyre
+
+log = logging.getLogger(__name__)
 
 INDEX_FIELDS = ("hash", "name", "status", "wall_s", "error")
 # A failed run's kind (its status.json's "kind"): the run itself raised (kept: a run is a pure
@@ -201,7 +203,7 @@ def commit_run(runs, job, record, result):
 
 
 def announce(message):
-    print(message, file=sys.stderr)
+    log.info(message)
 
 
 def remove_stale(runs):
@@ -238,6 +240,7 @@ def announce_other_code(runs, todo):
                                    if parts[what].get(k) != mine[what].get(k))
                     other.setdefault(f"{what} ({', '.join(names)[:200]})", set()).add(
                         parts["scene_hash"])
+
     for what, scenes in other.items():
         announce(f"{runs}: {len(scenes)} of these scenes were run before by other {what}; "
                  "they run again under this one (the old runs are kept)")

@@ -3,7 +3,7 @@ steer), their runs' metrics, the single-track model built from the car's own par
 understeer budget (``understeer``) and the cross-check against CommonRoad's multi-body model of
 the same car (``crosscheck``). ``handling_study(scenes, fit_range)`` runs and analyses both."""
 
-import sys
+import logging
 import time
 
 import numpy as np
@@ -19,6 +19,8 @@ from drake_car.sim.simulate import simulate
 from drake_car.study.handling import crosscheck
 from drake_car.study.handling import measures as handling
 from drake_car.study.handling.understeer import understeer_budget
+
+log = logging.getLogger(__name__)
 
 ENTRIES = {"steady_state": RampSteer, "step_steer": StepSteer}
 
@@ -70,7 +72,7 @@ def crosscheck_left_out(no_crosscheck):
         return "left out (--no_crosscheck)"
     available, why = crosscheck.available()
     if not available:
-        print(f"warning: cross-check left out: {why}", file=sys.stderr)
+        log.warning("cross-check left out: %s", why)
         return why
     return None
 
@@ -210,6 +212,7 @@ def cross_check(runs, result, fit_range):
         static_axle_loads_N=crosscheck.static_axle_loads(p),
         series_ramp=_paired(runs["steady_state"].history, keep, mb_ramp, car),
         series_step=_paired(hs, keep_s, mb_step, car))
+
     return out
 
 
