@@ -104,7 +104,7 @@ def test_steady_cornering_understeer_gradient():
     params = CarParameters()
     speed, rate = h["speed_mps"], h["yaw_rate_radps"]
     lateral = speed * rate
-    steer = np.radians(0.5 * (h["steer_fl_deg"] + h["steer_fr_deg"]))
+    steer = 0.5 * (h["steer_fl_rad"] + h["steer_fr_rad"])
     use = (h["t"] > start) & (lateral > 0.5) & (lateral < 2.5)
     assert use.sum() > 50
     speed, rate, lateral, steer = speed[use], rate[use], lateral[use], steer[use]

@@ -55,7 +55,7 @@ def synthetic_ramp(*, speed=16.0, wheelbase=2.4, cog=0.9, k_deg_per_g=1.0, roll=
             "yaw_rate_radps": r, "speed_mps": np.hypot(vx, vy_o),
             "sideslip_rad": np.arctan2(vy_o, vx), "ay_mps2": ay + cog * rdot,
             "roll_rad": roll / DEG_PER_G * ay, "rack_force_N": rack_force / 9.81 * ay,
-            "steer_fl_deg": np.degrees(steer), "steer_fr_deg": np.degrees(steer)}, steer
+            "steer_fl_rad": steer, "steer_fr_rad": steer}, steer
 
 
 def test_steady_state_gradients_of_a_linear_ramp():

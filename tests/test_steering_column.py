@@ -69,8 +69,7 @@ def test_reflected_column_pulls_as_the_coupled_one():
     rack_diff = np.max(np.abs(c["rack_m"] - r["rack_m"]))
     assert rack_diff <= dq, f"rack positions differ by {rack_diff:.3g} m > δq = {dq:.3g} m"
     held = c["t"] < hands_off_release_s(scene)
-    steer_per_rack = (np.max(np.abs(np.radians(c["steer_fl_deg"][held])
-                                    - np.radians(c["steer_fl_deg"][0])))
+    steer_per_rack = (np.max(np.abs(c["steer_fl_rad"][held] - c["steer_fl_rad"][0]))
                       / np.max(np.abs(c["rack_m"][held] - c["rack_m"][0])))
     bound = math.degrees(study.pull_distance_m * steer_per_rack * dq / scene.car.wheelbase_m)
     pull = {form: outcomes(h, scene, study)["pull_deg"] for form, h in histories.items()}

@@ -16,7 +16,7 @@ from drake_car.model.geometry import SIDES
 CAR_CHANNELS = {
     "chassis": ("x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "yaw_rate_radps",
                 "speed_mps", "sideslip_rad", "ax_mps2", "ay_mps2"),
-    "steering": ("rack_m", "rack_force_N", "steer_fl_deg", "steer_fr_deg"),
+    "steering": ("rack_m", "rack_force_N", "steer_fl_rad", "steer_fr_rad"),
     "struts": tuple(f"d_{s}_m" for s in SIDES) + tuple(f"rot_{s}_rad" for s in SIDES),
     "energy": ("kinetic_J", "potential_J"),
     "top_mounts": tuple(f"top_mount_{a}_{s}_m" for s in SIDES for a in "xyz"),
@@ -51,7 +51,7 @@ class CarChannels(LeafSystem):
     and lateral acceleration of the body origin in the heading frame (m/s², lateral to the
     left +). ``steering``: rack position (m, left +), the force the steering servo applies to
     the rack (N, the steering system's load), steer angles of the front wheels relative to the
-    body (deg, left +). ``struts``: overlap d = l - s of the left and right strut (m) and the
+    body (rad, left +). ``struts``: overlap d = l - s of the left and right strut (m) and the
     rod's rotation in its cylinder (rad). ``energy``: the plant's kinetic energy and the
     potential energy of gravity and the coil springs (J), the SAP pacer's body left out.
     ``top_mounts``: the compliant mounts' deflections (m).
@@ -123,7 +123,7 @@ class CarChannels(LeafSystem):
                   self._actuation.Eval(context)[self._rack_actuator]]
         for wheel in self._wheels:
             axis = body.T @ poses[wheel].rotation().matrix()[:, 1]  # spin axis in the body
-            values.append(math.degrees(math.atan2(-axis[0], axis[1])))
+            values.append(math.atan2(-axis[0], axis[1]))
         output.SetFromVector(values)
 
     def _calc_struts(self, context, output):

@@ -5,7 +5,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from drake_car.results.folder import OutputError
+from drake_car.results.errors import OutputError
 
 
 def write_diagram_svg(dot_text, path):

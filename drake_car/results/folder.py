@@ -17,13 +17,12 @@ import uuid
 from pathlib import Path
 
 from drake_car.law.checks import excerpt
+from drake_car.results.columns import folder_readme
+from drake_car.results.errors import OutputError  # noqa: F401 - the room's error, here too
+from drake_car.results.files import write_text
 from drake_car.results.lock import LockHeld, exclusive, holder
 
 MARKER = ".drake_car_output"  # in every folder this module wrote
-
-
-class OutputError(ValueError):
-    """The output folder cannot be used; the message names it and why."""
 
 
 # The names made beside --out: ".NAME.partial-PID-HEX8-old-HEX8" is the longest.
@@ -141,6 +140,8 @@ def output_folder(out_dir):
                                               "next run that writes here\n")
             with _os_errors_named(out_dir, parent):
                 yield staging
+            if not (staging / "README.md").exists():  # what the columns mean
+                write_text(staging / "README.md", folder_readme(staging, out_dir.name))
             check_output_target(out_dir)  # still a folder we may replace
             with _os_errors_named(out_dir, parent):
                 old = None

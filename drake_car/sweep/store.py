@@ -16,6 +16,7 @@ from pathlib import Path
 
 from drake_car.law.tyre.tir import read_tir_bytes
 from drake_car.model.loading import tir_path
+from drake_car.results.columns import folder_readme
 from drake_car.results.files import write_text
 from drake_car.results.folder import OutputError
 from drake_car.results.folder import folder_lock as results_folder_lock
@@ -114,6 +115,7 @@ def rebuild_index(out_dir):
         raise OutputError(f"{out / 'index.csv'}: is not a file; remove it (the index is "
                           "rebuilt from runs/)")
     write_text(out / "index.csv", buffer.getvalue())
+    write_text(out / "README.md", folder_readme(out, f"sweep {out.name}"))
 
 
 def check_layout(out):

@@ -59,7 +59,7 @@ def _over_speed(value, speed):
 
 def road_wheel_steer_rad(history):
     """The measured road-wheel angle: the mean of the two front wheels' steer to the body."""
-    return np.radians(0.5 * (history["steer_fl_deg"] + history["steer_fr_deg"]))
+    return 0.5 * (history["steer_fl_rad"] + history["steer_fr_rad"])
 
 
 def kinematic_steer_rad(rack_m, steering):
@@ -77,7 +77,7 @@ def tyre_lateral_force(history):
     the rear (the logged forces are in each wheel's contact frame)."""
     total = 0.0
     for w in ("fl", "fr", "rl", "rr"):
-        steer = np.radians(history[f"steer_{w}_deg"]) if w in ("fl", "fr") else 0.0
+        steer = history[f"steer_{w}_rad"] if w in ("fl", "fr") else 0.0
         total = total + history[f"Fx_{w}_N"] * np.sin(steer) + history[f"Fy_{w}_N"] * np.cos(
             steer)
     return total

@@ -153,7 +153,7 @@ def understeer_budget(history, car, tyre, *, kinematic_steer_rad, combined=True,
                                for q, u in (("Fz", "N"), ("gamma", "rad"))])
     h = {k: np.asarray(v)[idx] for k, v in history.items() if k != "phase"}
     ay, r, speed = ay_all[idx], motion["yaw_rate"][idx], motion["speed"][idx]
-    steer = {"fl": np.radians(h["steer_fl_deg"]), "fr": np.radians(h["steer_fr_deg"]),
+    steer = {"fl": h["steer_fl_rad"], "fr": h["steer_fr_rad"],
              "rl": np.zeros(idx.size), "rr": np.zeros(idx.size)}
 
     def wheels(axle, k, loads, cambers, slips):
