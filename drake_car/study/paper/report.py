@@ -41,8 +41,9 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
     roles = {n: (r.case, r.friction) for n, r in study.items()}
     measures = claim_measures(outcomes, roles)
     claims = [dict(c) for c in claims]
-    for c, rows in zip(claims, measures):
-        c["reproduced_at_the_runs_step"] = c["reproduced"]
+    for c, rows in zip(claims, measures):  # the histories' verdict kept aside, as such
+        c["at_the_runs_step"] = {k: c.pop(k) for k in ("reproduced", "number", "per_run")
+                                 if k in c}
         c["reproduced"], c["decided"] = verdict(rows)
     rod_positions = {name: {f"dd_{side}_at_{p}_m": outcomes[(name, f"dd_{side}_{p}_m")]["value"]
                             for side in ("left", "right") for p in "ab"} for name in study}
