@@ -31,8 +31,9 @@ Example:  python experiments/lane_change.py --out results
 """
 
 import dataclasses
-import resource
 import time
+from pathlib import Path
+from resource import RUSAGE_CHILDREN, RUSAGE_SELF, getrusage
 
 from drake_car import cli
 from drake_car.data import resource
@@ -69,6 +70,9 @@ def main(argv=None):
     p.add_argument("--budget_s", type=cli.positive("--budget_s"), default=1800.0,
                    help="no further halving once the refinement has taken this much wall "
                         "time (default: %(default)g)")
+    p.add_argument("--runs_dir", type=Path, default=None,
+                   help="keep every run (each step tried) in this sweep folder too, by its "
+                        "scene's hash: a rerun reuses them (default: in memory only)")
     p.add_argument("--no_html", action="store_true", help="no Meshcat replay")
     p.add_argument("--no_paper_drive", action="store_true",
                    help="skip the comparison with the paper's own drive (both front wheels' "
@@ -98,7 +102,7 @@ def main(argv=None):
         count = len(scenes) * (1 if args.no_verify else 3) + len(locked)
         with dask_client(args.scheduler, min(args.workers or cores(), count)) as client:
             def simulate(batch):
-                return run_scenes(batch, client=client)
+                return run_scenes(batch, client=client, out_dir=args.runs_dir)
             if args.no_verify:
                 done = simulate(scenes | locked)
                 runs = {name: done[name] for name in scenes}
@@ -165,8 +169,8 @@ def _unseen_halved(scene, halvings):
 def _cpu_s():
     """CPU time of this process and its finished children (the local cluster's workers,
     reaped when it closes), user + system (s)."""
-    return sum(getattr(resource.getrusage(who), f) for who in
-               (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN) for f in ("ru_utime", "ru_stime"))
+    return sum(getattr(getrusage(who), f) for who in (RUSAGE_SELF, RUSAGE_CHILDREN)
+               for f in ("ru_utime", "ru_stime"))
 
 
 if __name__ == "__main__":
