@@ -22,8 +22,9 @@ runs whose deciding outcomes have not converged within their tolerances
 a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
 (``sweep.refine``). Every error is a run's own difference between steps; a claim is decided
 only where its margin exceeds it, else the report says "undecided at the finest step tried".
-All runs go as one sweep (``sweep.runner.run_scenes``: in parallel, a progress bar over the
-runs on a terminal). Options and scenes: --scene_text is laid over every run's scene (e.g.
+Each round of runs goes as one sweep (``sweep.runner.run_scenes``: in parallel on one
+cluster for the whole job, a progress bar over the runs on a terminal): the first round is the
+six runs, their dt/2 and dt/4 repetitions and the six with the paper's drive. Options and scenes: --scene_text is laid over every run's scene (e.g.
 "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
 added to one run's scene (so its saved scene says so).
 
