@@ -241,7 +241,9 @@ def load_split(study, timeline, path, outcomes=None):
     rods.set_ylim(-top, top)
     rods.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
     rods.set_ylabel("change of Δd_left - Δd_right\nfrom a to b [mm] (log beyond ±" f"{t:g})")
-    span = max(2.0, 1.25 * float(np.max(np.abs(values[:, 2]))))
+    tried = [100 * abs(v) for n in names for v in outcomes[(n, "split_change")]["values"]] \
+        if outcomes is not None else []
+    span = max(2.0, 1.25 * float(np.max(np.abs(values[:, 2]))), 1.1 * max(tried, default=0))
     load.set_ylim(-span, span)
     load.yaxis.set_major_locator(MultipleLocator(0.5 if span <= 4 else 1.0))
     for y in (-1, 1):
