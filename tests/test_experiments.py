@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from drake_car.results.files import read_csv
+from drake_car.study.paper.outcomes import read_outcomes
 
 ROOT = Path(__file__).resolve().parents[1]
 # The paper's timeline shortened 20 times (every phase), laid over every run's scene.
@@ -90,15 +91,34 @@ def test_car_checks_script(tmp_path):
 
 @pytest.mark.slow
 def test_main_job_smoke(tmp_path):
-    """The README's main job on a timeline shortened 20 times, with its half-step check: the
-    report, the six runs (each with its scene as it ran), the figures and the replay."""
+    """The README's main job on a timeline shortened 20 times, with accuracy on demand down to
+    1/8 of the step: the report, outcomes.csv (every run's deciding outcomes with its own error
+    or "not converged"), the six runs (each with its scene as it ran), the figures and the
+    replay."""
     out = tmp_path / "study"
-    result = run(["experiments/lane_change.py", "--out", out, "--scene_text", SHORT])
+    result = run(["experiments/lane_change.py", "--out", out, "--scene_text", SHORT,
+                  "--finest_step_s", 1.25e-4])
     report = (out / "report.md").read_text()
     assert "| 1 |" in report and "| 6 |" in report and "## Sets and cases" in report
     summary = json.loads((out / "summary.json").read_text())
     assert len(summary["claims"]) == 6
     assert all(isinstance(c["reproduced"], bool) for c in summary["claims"])
+    outcomes = read_outcomes(out / "outcomes.csv")
+    header = (out / "outcomes.csv").read_text().splitlines()[0].split(",")
+    assert header[:7] == ["run", "outcome", "value", "error", "unit", "step_s", "converged"]
+    for name in ("a_1", "a_2", "a_3", "b_1", "b_2", "b_3"):
+        row = outcomes[(name, "split_change")]
+        assert row["steps_s"][:3] == [1e-3, 5e-4, 2.5e-4] and 1.25e-4 <= row["step_s"] <= 2.5e-4
+        assert row["value"] == row["values"][-1] and row["converged"] in (True, False)
+        x0, x1, x2 = row["values"][-3:]
+        if row["converged"]:  # the same run's last two differences: within, and shrinking
+            assert abs(x1 - x2) <= row["tolerance"] and row["error"] == abs(x1 - x2)
+        else:  # never a number with a small error: the span of its last steps
+            assert row["error"] == pytest.approx(max(x0, x1, x2) - min(x0, x1, x2))
+    assert ("a_3|b_3", "mirror_residual_m") in outcomes
+    claims_table = report.split("## The paper's claims")[1].split("\n## ")[0]
+    for claim, line in zip(summary["claims"], claims_table.splitlines()[4:10]):
+        assert ("undecided at the finest step tried" in line) is (claim["decided"] is False)
     for name in ("a_1", "a_2", "a_3", "b_1", "b_2", "b_3"):
         h = read_csv(out / f"{name}.csv")
         assert all(np.all(np.isfinite(v)) for k, v in h.items() if k != "phase")
@@ -108,6 +128,7 @@ def test_main_job_smoke(tmp_path):
     for name in ("fig13.png", "fig14_a.png", "fig15_b.png", "fig16.png", "diagram.svg"):
         assert (out / name).stat().st_size > 0, name
     assert "claims reproduced" in result.stdout
+    assert summary["refinement"]["finest_step_s"] >= 1.25e-4
 
 
 @pytest.mark.slow

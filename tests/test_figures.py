@@ -1,5 +1,5 @@
 """What the study's reader gets, on synthetic histories (``test_study``): the claims' deciding
-numbers, their numerical error from a half-step study, the figures (each written, no legend
+numbers, their numerical error from the same runs at finer steps (``outcomes.csv``), the figures (each written, no legend
 over data), the report (terms first, every verdict beside its threshold, peak and steady, an
 error estimate on every deciding number, a figure linked to every claim) and the Diagram's
 overview drawing."""
@@ -15,10 +15,12 @@ import pytest
 
 from drake_car.results.diagram import diagram_overview_dot
 from drake_car.study.paper.figures import FIGURES, all_figures, legend_overlaps, place_windows
-from drake_car.study.paper.measures import claim_measures
 from drake_car.study.paper.claims import evaluate_claims, place_values
-from drake_car.study.paper.measures import error_estimates, holds
+from drake_car.study.paper.measures import claim_measures, holds
+from drake_car.study.paper.outcomes import (
+    at_one_step, read_outcomes, study_outcomes, write_outcomes)
 from drake_car.study.paper.report import CLAIM_FIGURES, _flip, quantity, report, summary
+from test_refine import _table
 from test_study import TIMELINE, study_of
 
 VARIANTS = ({}, {"jammed_returns": True}, {"stays_put": True}, {"asymmetric_end": 0.002},
@@ -33,38 +35,54 @@ class FakeRun:
                 "scene_hash": "0123456789abcdef"}
 
 
-def made(study, half_study=None, figures=None):
-    """summary and report of a synthetic study (with a half-step study, or without)."""
+def roles_of(study):
+    return {n: (r.case, r.friction) for n, r in study.items()}
+
+
+def values_of(study):
+    return study_outcomes({n: r.columns for n, r in study.items()}, roles_of(study), TIMELINE)
+
+
+def made(study, finer=(), figures=None, tmp_path=None):
+    """summary and report of a synthetic study: its outcomes at the step, and at finer steps
+    from the studies ``finer`` (as accuracy on demand would give them), through outcomes.csv
+    when ``tmp_path`` is given; at one step only without ``finer``."""
     claims, shifts = evaluate_claims(study, TIMELINE)
-    half = None
-    if half_study is not None:
-        half_claims, _ = evaluate_claims(half_study, TIMELINE)
-        half = {"time_step_s": {n: 5e-4 for n in study},
-                "verdicts": [c["reproduced"] for c in half_claims],
-                "numbers": [c["number"] for c in half_claims],
-                "measures": claim_measures(half_study, TIMELINE)}
+    levels = [values_of(study)] + [values_of(f) for f in finer]
+    table = _table(levels) if finer else at_one_step(levels[0], 1e-3)
+    if tmp_path is not None:
+        write_outcomes(tmp_path / "outcomes.csv", table)
+        table = read_outcomes(tmp_path / "outcomes.csv")
+    refinement = {"rounds": [], "wall_s": 12.0, "stopped": "every outcome converged",
+                  "finest_step_s": 2.5e-4} if finer else None
     s = summary(study, claims, shifts, TIMELINE, runs={n: FakeRun() for n in study},
-                half=half, figures=dict(FIGURES) if figures is None else figures, wall_s=3.0,
+                outcomes=table, refinement=refinement,
+                figures=dict(FIGURES) if figures is None else figures, wall_s=3.0,
                 provenance={"command": "test", "git_commit": "0" * 40, "drake": "1.51",
                             "created_utc": "now"})
     return s, report(s)
 
 
-def nudged(study, by=2e-5):
-    """``study`` as if run at half the step: every rod position moved by ``by`` (m) late in
-    the run on one side, so the numbers change a little."""
+def nudged(study, by=2e-5, factor=1.001):
+    """``study`` as if run at a finer step: every rod position moved by ``by`` (m) late in
+    the run on one side, the rotation scaled by ``factor``, so the numbers change a little."""
     for r in study.values():
         t = r.columns["t"]
         r.columns["dd_left_m"] = r.columns["dd_left_m"] + np.where(t > 9.0, by, 0.0)
-        r.columns["rot_left_rad"] = r.columns["rot_left_rad"] * 1.001
+        r.columns["rot_left_rad"] = r.columns["rot_left_rad"] * factor
     return study
+
+
+def converging(**variant):
+    """The study at h/2 and h/4, converging at first order (differences halve)."""
+    return (nudged(study_of(**variant), 2e-5, 1.001), nudged(study_of(**variant), 3e-5, 1.0015))
 
 
 @pytest.mark.parametrize("variant", VARIANTS)
 def test_measures_decide_as_the_claims(variant):
     study = study_of(**variant)
     claims, _ = evaluate_claims(study, TIMELINE)
-    measures = claim_measures(study, TIMELINE)
+    measures = claim_measures(at_one_step(values_of(study)), roles_of(study))
     assert len(measures) == len(claims)
     for claim, rows in zip(claims, measures):
         assert any(m["decides"] for m in rows)
@@ -79,23 +97,11 @@ def test_place_windows_are_what_place_values_averages():
         assert np.mean(h["dd_left_m"][inside]) == pytest.approx(value)
 
 
-def test_error_estimates_give_the_difference_and_extrapolate_where_the_order_is_known():
-    measure = {"name": "x", "value": 1.0, "unit": "m", "relation": "<=", "threshold": 1.5,
-               "runs": ["a_1"], "decides": True}
-    count = dict(measure, unit="count", relation="==", threshold=2, value=0)
-    half = [[dict(measure, value=0.9), dict(count, value=0)]]
-    rows = error_estimates([[measure, count]], half, first_order_runs=["a_1"])[0]
-    assert rows[0]["abs_diff"] == pytest.approx(0.1)
-    assert rows[0]["order"] == 1 and rows[0]["extrapolated"] == pytest.approx(0.8)
-    assert rows[0]["margin"] == pytest.approx(0.5) and rows[0]["holds_half"] is True
-    assert rows[1]["extrapolated"] is None and rows[1]["abs_diff"] == 0
-    other = error_estimates([[measure]], [[dict(measure, value=0.9)]], first_order_runs=[])
-    assert other[0][0]["extrapolated"] is None  # with dry friction the order is not known
-    assert error_estimates([[measure]])[0][0]["abs_diff"] is None  # no half-step study
-    # A margin smaller than the error is said as such, not rounded to "0 × the error".
-    within = error_estimates([[dict(measure, value=1.4)]], [[dict(measure, value=1.2)]],
-                             first_order_runs=[])[0][0]
-    assert _flip(within) == "**0.5 × the error** (within it)"
+def test_a_margin_within_the_error_is_said_as_such():
+    row = {"margin": 0.2, "error": 0.4, "converged": True, "unit": "m"}
+    assert _flip(row) == "**0.5 × the error** (within it)"
+    assert _flip(dict(row, error=0.01)) == "20 × the error"
+    assert _flip(dict(row, converged=False)) == "**not converged**"
 
 
 def test_quantities_are_written_in_the_readers_units():
@@ -108,7 +114,8 @@ def test_quantities_are_written_in_the_readers_units():
 
 def test_every_figure_is_written_without_a_legend_over_data(tmp_path):
     study = study_of(asymmetric_end=0.001)
-    written = all_figures(study, TIMELINE, tmp_path, half=nudged(study_of(asymmetric_end=0.001)))
+    table = _table([values_of(study)] + [values_of(f) for f in converging(asymmetric_end=0.001)])
+    written = all_figures(study, TIMELINE, tmp_path, outcomes=table)
     assert written == FIGURES
     for name in written:
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
@@ -126,9 +133,9 @@ def test_a_legend_over_data_is_found():
     plt.close(fig)
 
 
-def test_report_defines_its_terms_first_and_gives_thresholds_errors_and_figures():
-    study = study_of(jammed_returns=True, asymmetric_end=0.002)  # claims 1 and 3 fail
-    s, text = made(study, nudged(study_of(jammed_returns=True, asymmetric_end=0.002)))
+def test_report_defines_its_terms_first_and_gives_thresholds_errors_and_figures(tmp_path):
+    variant = {"jammed_returns": True, "asymmetric_end": 0.002}  # claims 1 and 3 fail
+    s, text = made(study_of(**variant), converging(**variant), tmp_path=tmp_path)
     json.loads(json.dumps(s, default=float))  # JSON-ready
     terms = text.index("## Sets and cases, and the terms used")
     claims = text.index("## The paper's claims")
@@ -143,9 +150,8 @@ def test_report_defines_its_terms_first_and_gives_thresholds_errors_and_figures(
         cells = re.split(r" (?<!\\)\| ", row)
         assert len(cells) == 6, row
         assert "needs " in cells[3], row  # the verdict's number beside its threshold
-        assert re.search(r"±|< |count", cells[4]), row  # its numerical error
+        assert re.search(r"±|< |converged", cells[4]), row  # its numerical error
         assert all(f"[{f}]({f})" in cells[5] for f in CLAIM_FIGURES[i]), row
-    assert "(at dt/2: " in rows[0]
     # Load swings say whether they are peaks or steady changes.
     why = text[text.index("## Where the model disagrees"):]
     one = next(line for line in why.splitlines() if line.startswith("- **1."))
@@ -156,18 +162,32 @@ def test_report_defines_its_terms_first_and_gives_thresholds_errors_and_figures(
     numbers = text[text.index("## Every number behind a verdict"):].split("\n## ")[0]
     table = [line for line in numbers.splitlines() if line.startswith("| ")][1:]
     assert len(table) == sum(len(rows) for rows in s["deciding_numbers"])
-    assert all(len(re.split(r"(?<!\\)\|", line)) == 11 for line in table)  # 9 cells
+    assert all(len(re.split(r"(?<!\\)\|", line)) == 10 for line in table)  # 8 cells
     assert any("× the error" in line for line in table)
-    extrapolated = [r for rows in s["deciding_numbers"] for r in rows if r["extrapolated"]]
-    assert extrapolated and all(set(r["runs"]) <= {"a_1", "b_1"} for r in extrapolated)
+    # The rotation converges at first order: its error is the same runs' last difference.
     rotation = s["deciding_numbers"][4][0]
-    assert rotation["abs_diff"] == pytest.approx(0.001 * rotation["value"], rel=1e-6)
+    assert rotation["converged"] is True
+    assert rotation["error"] == pytest.approx(0.0005 / 1.0015 * rotation["value"], rel=1e-6)
+    assert rotation["values"] == pytest.approx(
+        [rotation["value"] / 1.0015 * f for f in (1, 1.001, 1.0015)])
+
+
+def test_an_undecided_claim_says_so_with_the_finest_step_and_the_values():
+    # Claim 3's rods: 4 mm left-right at a 0.1 mm threshold, but jumping by 3 mm between the
+    # steps: not converged, so undecided, with every step's value.
+    variant = {"asymmetric_end": 0.002}
+    finer = (study_of(asymmetric_end=0.0005), study_of(asymmetric_end=0.002))
+    s, text = made(study_of(**variant), finer)
+    assert s["claims"][2]["decided"] is False
+    row = next(line for line in text.splitlines() if line.startswith("| 3 |"))
+    assert "undecided at the finest step tried (0.25 ms, 12 s of wall)" in row
+    assert "not converged: " in row and " at 0.5 ms" in row
 
 
 def test_report_without_the_half_step_check_says_so():
     s, text = made(study_of())
-    assert "not estimated (--no_verify)" in text
-    assert all(r["abs_diff"] is None for rows in s["deciding_numbers"] for r in rows)
+    assert "not estimated (--no_verify" in text
+    assert all(r["error"] is None for rows in s["deciding_numbers"] for r in rows)
 
 
 DOT = shutil.which("dot")

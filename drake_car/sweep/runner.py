@@ -360,24 +360,28 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
 
 
 def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
-               out_dir=None) -> dict:
+               out_dir=None, client=None) -> dict:
     """name -> Run for name -> Scene, run as a sweep (see the module), in the scenes' order.
     ``out_dir`` None: the results are kept in memory only; a folder: they are written there
-    too, as ``run_sweep`` does (a restart reuses its runs). If any run failed, raises the
-    first failed run's error, in the scenes' order (``failure``), after all have run."""
+    too, as ``run_sweep`` does (a restart reuses its runs). On ``client`` if given (e.g. one
+    cluster for the rounds of ``sweep.refine``), else as ``run_sweep``. If any run failed,
+    raises the first failed run's error, in the scenes' order (``failure``), after all have
+    run."""
     jobs = jobs_of(scenes)
     results = {}
     if not jobs:
         return {}
     if out_dir is not None:
-        run_sweep(scenes, out_dir, scheduler=scheduler, workers=workers, progress=progress)
+        run_sweep(scenes, out_dir, client=client, scheduler=scheduler, workers=workers,
+                  progress=progress)
         results = {key: load_run(out_dir, key) for key in jobs}
     else:
         def keep(job, record, result):
             results[job.hash] = (record, run_from_texts(result) if record["status"] == "ok"
                                  else result)
-        with dask_client(scheduler, min(workers or cores(), len(jobs))) as client:
-            compute(client, list(jobs.values()), keep, progress=progress, desc="runs")
+        with (contextlib.nullcontext(client) if client is not None else
+              dask_client(scheduler, min(workers or cores(), len(jobs)))) as own:
+            compute(own, list(jobs.values()), keep, progress=progress, desc="runs")
     runs = {}
     key_of = {name: key for key, job in jobs.items() for name in job.names}
     for name, scene in scenes.items():

@@ -293,7 +293,7 @@ def evaluate_claims(study: dict, timeline: Timeline):
         "why": "the car and its cases are mirror images, so the difference is numerical: a "
                "dry strut that sticks near its break-away load breaks free a step earlier or "
                "later in the mirrored run and sticks elsewhere; its size changes with the "
-               "step (the half-step rerun), so this verdict is not resolved",
+               "step",
         "figure": "fig14_a.png vs fig15_b.png, fig14_b.png vs fig15_a.png"})
 
     # 5. Rod rotation stays below 3 deg.

@@ -207,14 +207,22 @@ def _split_changes(h, timeline, corner):
     return 1e3 * rods, load, 100 * load / corner
 
 
-def load_split(study, timeline, path, half=None):
+def load_split(study, timeline, path, outcomes=None):
     """Claim 3 per run: the change from place a to b of Δd_left - Δd_right (with the
     "practically zero" band) and of the front split Fz_fl - Fz_fr in % of the corner load (a
-    scale on which 1 % is plain); ``half``: the study at half the step, drawn as markers."""
+    scale on which 1 % is plain). With ``outcomes`` (``outcomes.csv``'s rows) the bars are each
+    run's value at the finest step it tried, with its converged error (or, not converged, the
+    span of its last steps) as an error bar and its values at every step as markers; without,
+    the runs' values at their own step."""
     names = sorted(study)
     h1 = run_of(study, "a", 1).columns
     corner = 0.5 * (float(h1["Fz_fl_N"][0]) + float(h1["Fz_fr_N"][0]))
     values = np.array([_split_changes(study[n].columns, timeline, corner) for n in names])
+    if outcomes is not None:
+        for k, n in enumerate(names):
+            values[k, 0] = 1e3 * outcomes[(n, "lr_change_m")]["value"]
+            values[k, 2] = 100 * outcomes[(n, "split_change")]["value"]
+            values[k, 1] = values[k, 2] * corner / 100
     fig, (rods, load) = plt.subplots(2, 1, figsize=(9, 6.4), sharex=True)
     x = np.arange(len(names))
     colours = [SET_COLOUR[study[n].friction.number] for n in names]
@@ -233,7 +241,9 @@ def load_split(study, timeline, path, half=None):
     rods.set_ylim(-top, top)
     rods.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
     rods.set_ylabel("change of Δd_left - Δd_right\nfrom a to b [mm] (log beyond ±" f"{t:g})")
-    span = max(2.0, 1.25 * float(np.max(np.abs(values[:, 2]))))
+    tried = [100 * abs(v) for n in names for v in outcomes[(n, "split_change")]["values"]] \
+        if outcomes is not None else []
+    span = max(2.0, 1.25 * float(np.max(np.abs(values[:, 2]))), 1.1 * max(tried, default=0))
     load.set_ylim(-span, span)
     load.yaxis.set_major_locator(MultipleLocator(0.5 if span <= 4 else 1.0))
     for y in (-1, 1):
@@ -252,12 +262,21 @@ def load_split(study, timeline, path, half=None):
     labels.append(f"practically zero (±{t:g} mm)")
     handles.append(plt.Line2D([], [], color="k", lw=0.6, ls="--"))
     labels.append("±1 % of the corner load")
-    if half is not None:
-        halves = np.array([_split_changes(half[n].columns, timeline, corner) for n in names])
-        for ax, column in ((rods, 0), (load, 2)):
-            ax.plot(x, halves[:, column], "kx", ms=7)
-        handles.append(plt.Line2D([], [], color="k", marker="x", ls=""))
-        labels.append("at half the time step")
+    if outcomes is not None:
+        for ax, outcome, scale in ((rods, "lr_change_m", 1e3), (load, "split_change", 100)):
+            for k, n in enumerate(names):
+                row = outcomes[(n, outcome)]
+                if row["error"] is not None:
+                    ax.errorbar(x[k], scale * row["value"], yerr=scale * row["error"],
+                                color="k" if row["converged"] else "tab:red", capsize=4,
+                                lw=1.2)
+                ax.plot([x[k]] * len(row["values"]), scale * np.asarray(row["values"]), "kx",
+                        ms=5, alpha=0.7)
+        handles += [plt.Line2D([], [], color="k", marker="x", ls=""),
+                    plt.Line2D([], [], color="k", lw=1.2),
+                    plt.Line2D([], [], color="tab:red", lw=1.2)]
+        labels += ["each step tried (outcomes.csv)", "converged: ± its error",
+                   "not converged: the span of its last steps"]
     rods.legend(handles, labels, title="friction set (bars: steady,\nwindow averages)",
                 **OUTSIDE)
     rods.set_title("Claim 3: lasting left-right change from place a to place b", pad=10)
@@ -328,9 +347,9 @@ def rod_rotation(study, timeline, path):
     _save(fig, path)
 
 
-def all_figures(study, timeline, out, half=None):
-    """Writes every figure into ``out``; returns file -> what it shows. ``half``: the study at
-    half the time step, or None."""
+def all_figures(study, timeline, out, outcomes=None):
+    """Writes every figure into ``out``; returns file -> what it shows. ``outcomes``: the rows
+    of ``outcomes.csv`` (the deciding numbers per run, refined), or None."""
     fig13(study, timeline, out / "fig13.png")
     for fig, case, side, name in (("14", "a", "left", "a"), ("14", "a", "right", "b"),
                                   ("15", "b", "left", "a"), ("15", "b", "right", "b")):
@@ -339,7 +358,7 @@ def all_figures(study, timeline, out, half=None):
                f"Fig. {fig}{name}: lane change starting {start} (case {case}), {side} strut")
     fig16(study, timeline, out / "fig16.png")
     claim1_return(study, timeline, out / "claim1_return.png")
-    load_split(study, timeline, out / "load_split.png", half)
+    load_split(study, timeline, out / "load_split.png", outcomes)
     symmetry(study, timeline, out / "symmetry.png")
     rod_rotation(study, timeline, out / "rod_rotation.png")
     return dict(FIGURES)

@@ -3,15 +3,16 @@ and claims (pure: no simulation, no files).
 
 The report is written for a reader of the paper: it defines its terms first (sets, cases,
 phases, places, thresholds, peak and steady), gives every verdict beside its threshold, links
-each claim to the figure that shows it, and gives every deciding number with its numerical error
-estimate from the half-step rerun (|x(dt) - x(dt/2)|, and the extrapolated value where the
-order of convergence is known), so that a reader sees how far each verdict is from flipping.
+each claim to the figure that shows it, and gives every deciding number from ``outcomes.csv``
+(each run's outcomes refined until they converge: ``sweep.refine``) with its numerical error,
+the same run's difference between its last steps, or "not converged" with the values at each
+step; a verdict whose margin does not exceed its error is "undecided at the finest step tried".
 """
 
 import dataclasses
 import math
 
-from drake_car.study.paper.measures import claim_measures, error_estimates
+from drake_car.study.paper.measures import claim_measures, verdict
 from drake_car.study.paper.claims import (
     DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, place_values, run_of)
 from drake_car.study.paper.previous_car import previous_car_section
@@ -29,28 +30,29 @@ CLAIM_FIGURES = {1: ("claim1_return.png", "fig14_a.png", "fig14_b.png"),
                  6: ("fig16.png",)}
 
 
-def summary(study, claims, shifts, timeline, *, runs, half, figures, wall_s, provenance,
-            replay=None):
-    """``study``: name -> StudyRun; ``runs``: name -> sim Run (for how each was made);
-    ``half``: the half-step check (or None): {"time_step_s", "verdicts", "numbers", "measures"
-    (``claim_measures`` of the half-step runs)}; ``figures``: file -> what it shows;
-    ``replay``: the run with a replay page, if any."""
-    rod_positions = {}
-    for name, r in study.items():
-        rod_positions[name] = {}
-        for side in ("left", "right"):
-            at_a, at_b = place_values(r.columns, timeline, f"dd_{side}_m")
-            rod_positions[name][f"dd_{side}_at_a_m"] = at_a
-            rod_positions[name][f"dd_{side}_at_b_m"] = at_b
+def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s, provenance,
+            refinement=None, replay=None):
+    """``study``: name -> StudyRun (at the scenes' own step: the figures' curves); ``runs``:
+    name -> sim Run (for how each was made); ``outcomes``: the rows of ``outcomes.csv``
+    ((run, outcome) -> row: ``outcomes.read_outcomes``), from which every deciding number and
+    verdict comes; ``refinement``: how accuracy on demand went ({"rounds", "wall_s",
+    "stopped", "finest_step_s", "needed_step_s"}), None when the step was not refined;
+    ``figures``: file -> what it shows; ``replay``: the run with a replay page, if any."""
+    roles = {n: (r.case, r.friction) for n, r in study.items()}
+    measures = claim_measures(outcomes, roles)
+    claims = [dict(c) for c in claims]
+    for c, rows in zip(claims, measures):  # the histories' verdict kept aside, as such
+        c["at_the_runs_step"] = {k: c.pop(k) for k in ("reproduced", "number", "per_run")
+                                 if k in c}
+        c["reproduced"], c["decided"] = verdict(rows)
+    rod_positions = {name: {f"dd_{side}_at_{p}_m": outcomes[(name, f"dd_{side}_{p}_m")]["value"]
+                            for side in ("left", "right") for p in "ab"} for name in study}
     sets = {n: dataclasses.asdict(run_of(study, "a", n).friction) for n in (1, 2, 3)}
-    lubricated = [name for name, r in study.items() if r.friction.mu_s == 0]
-    measures = claim_measures(study, timeline)
     t = next(iter(study.values())).columns["t"]
     t2, t3, t4, _ = timeline.boundaries()
     return {
         "claims": claims,
-        "deciding_numbers": error_estimates(
-            measures, None if half is None else half.get("measures"), lubricated),
+        "deciding_numbers": measures,
         "friction_sets": sets,
         "cases": {"a": "lane change starting with a left turn (to the left lane and back "
                        "straight)",
@@ -60,10 +62,12 @@ def summary(study, claims, shifts, timeline, *, runs, half, figures, wall_s, pro
         "places_s": {"a": [t3 - 0.3, t3], "b": [float(t[-1]) - 0.5, float(t[-1])]},
         "rod_positions": rod_positions,
         "rod_shift_b_minus_a_m": shifts,
+        "split_changes": {name: {k: outcomes[(name, k)] for k in ("lr_change_m", "split_change")}
+                          for name in study},
         "runs": {name: run.record() | {"case": study[name].case,
                                        "friction_set": study[name].friction.number}
                  for name, run in runs.items()},
-        "half_step_check": half,
+        "refinement": refinement,
         "timeline_s": dataclasses.asdict(timeline),
         "figures": figures,
         "replay": replay,
@@ -93,33 +97,48 @@ def _threshold(m):
 
 
 def _error(row):
-    if row["abs_diff"] is None:
-        return "not estimated (--no_verify)"
+    """A measure's numerical error as the report writes it: "±e" where converged, "not
+    converged" with the values at each step where not."""
+    if row["error"] is None:
+        return "not estimated (--no_verify: one step only)"
+    if not row["converged"]:
+        return "not converged: " + _by_step(row)
     if row["unit"] == "count":
-        return (f"count at dt/2: {row['half_value']:.0f}" if row["abs_diff"] else
-                "same count at dt/2")
-    text = quantity(row["abs_diff"], row["unit"], error=True)
-    text = text if text.startswith("<") else "±" + text
-    if row["extrapolated"] is not None:
-        text += f" (extrapolated {quantity(row['extrapolated'], row['unit'])})"
-    return text
+        return "converged (the same count at the last steps)"
+    text = quantity(row["error"], row["unit"], error=True)
+    return (text if text.startswith("<") else "±" + text) + \
+        f" (converged at {1e3 * min(row['steps_s']):g} ms)"
+
+
+def _by_step(row):
+    return ", ".join(f"{quantity(v, row['unit'])} at {1e3 * h:g} ms"
+                     for h, v in zip(row["steps_s"], row["values"]))
 
 
 def _flip(row):
     """How far the verdict of one measure is from flipping, in units of its error."""
-    if row["margin"] is None or row["abs_diff"] is None:
+    if row["margin"] is None or row["error"] is None:
         return "-"
+    if not row["converged"]:
+        return "**not converged**"
     if row["unit"] == "count":
-        return "same verdict at dt/2" if row["holds"] == row["holds_half"] else \
-            "**flips at dt/2**"
-    if row["holds"] != row["holds_half"]:
-        return "**flips at dt/2**"
-    if row["abs_diff"] == 0:
-        return "no change at dt/2"
-    n = row["margin"] / row["abs_diff"]
-    if n < 1:  # the error is larger than the margin: the verdict is not robust
+        return "exact (a converged count)"
+    if row["error"] == 0:
+        return "no change between the last steps"
+    n = row["margin"] / row["error"]
+    if n <= 1:  # the error is larger than the margin: the verdict is not decided
         return f"**{n:.2g} × the error** (within it)"
     return f"{n:.0f} × the error"
+
+
+def _verdict(c, s):
+    """yes / **no**, or undecided at the finest step tried."""
+    word = "yes" if c["reproduced"] else "**no**"
+    if c.get("decided") is False:
+        r = s.get("refinement") or {}
+        return (f"undecided at the finest step tried ({1e3 * r.get('finest_step_s', 0):g} ms, "
+                f"{r.get('wall_s', 0):.0f} s of wall); at it: {word.strip('*')}")
+    return word
 
 
 def _signed(value, digits):
@@ -182,12 +201,8 @@ def _paper_drive(s):
         theirs = "yes" if verdict else "no"
         if verdict != claim["reproduced"]:
             theirs = f"**{theirs}** (changes)"
-        lines.append(f"| {i} | {ours} | {theirs} | {_cell(number)} |")
+        lines.append(_row(i, ours, theirs, number))
     return lines + [""]
-
-
-def _cell(text):
-    return str(text).replace("|", "\\|")
 
 
 def _terms(s):
@@ -224,36 +239,35 @@ def _terms(s):
         "is a mean over a stretch where the car is in a steady state (the constant acceleration "
         "of phase I, or the window of a place).",
     ]
-    half = s["half_step_check"]
-    if half is not None:
-        steps = sorted(set(half["time_step_s"].values()))
+    r = s.get("refinement")
+    if r is not None:
         lines.append(
-            "- **numerical error**: every run was repeated at half its time step "
-            f"(dt/2 = {', '.join(f'{v:g}' for v in steps)} s). A number's error estimate is "
-            "|x(dt) - x(dt/2)|; where the order of convergence is known (first order for the "
-            "lubricated runs, set 1) the extrapolated value 2 x(dt/2) - x(dt) is given too. "
-            "\"n × the error\" says how far a number is from its threshold in units of that "
-            "estimate: the verdict flips only if the error were n times larger.")
+            "- **numerical error** (accuracy on demand): every run is repeated at half and a "
+            "quarter of its step, and the runs an outcome has not converged for are halved "
+            "again, until each deciding outcome converges within its tolerance "
+            "(`outcomes.csv`: one row per run and outcome) or the finest step "
+            f"({1e3 * r['finest_step_s']:g} ms tried) or the budget is reached ({r['stopped']}). "
+            "Converged: the last two differences are within the tolerance and shrink as a "
+            "first-order scheme's do; the error is then the last difference. A maximum over "
+            "runs is taken over each run's own converged value, its error the largest of "
+            "theirs: a run is only ever compared with itself. A verdict is decided only where "
+            "its margin exceeds that error; \"n × the error\" says by how much.")
     else:
-        lines.append("- **numerical error**: not estimated (the half-step rerun was skipped "
-                     "with --no_verify).")
+        lines.append("- **numerical error**: not estimated (one step only, --no_verify).")
     return lines + [""]
 
 
 def _claims_table(s):
-    half = s["half_step_check"]
     lines = ["## The paper's claims", "",
              _row("#", "claim", "reproduced", "deciding number vs threshold",
                   "numerical error", "figure"), "|---|---|---|---|---|---|"]
     for i, (c, rows) in enumerate(zip(s["claims"], s["deciding_numbers"]), start=1):
-        verdict = "yes" if c["reproduced"] else "**no**"
-        if half is not None:
-            verdict += f" (at dt/2: {'yes' if half['verdicts'][i - 1] else 'no'})"
         deciding = [r for r in rows if r["decides"]]
         number = "; ".join(f"{r['name']}: **{quantity(r['value'], r['unit'])}**, needs "
                            f"{_threshold(r)}" for r in deciding)
         error = "; ".join(_error(r) for r in deciding)
-        lines.append(_row(i, c["claim"], verdict, number, error, _links(i, s["figures"])))
+        lines.append(_row(i, c["claim"], _verdict(c, s), number, error,
+                          _links(i, s["figures"])))
     t2, t3 = s["phases_s"]["II"]
     return lines + [
         "", f"Claim 1 is judged on {_span((t2 - 0.3, t3))}: from 0.3 s before the "
@@ -264,21 +278,22 @@ def _claims_table(s):
 
 def _numbers_table(s):
     lines = ["## Every number behind a verdict, with its numerical error", "",
-             "Rows marked *context* do not decide the verdict; they say how near it is or why.",
-             "", _row("claim", "number", "threshold", "at dt", "at dt/2",
-                      "error |x(dt) - x(dt/2)|", "extrapolated", "margin to the threshold",
-                      "decides"),
-             "|---|---|---|---|---|---|---|---|---|"]
+             "Rows marked *context* do not decide the verdict; they say how near it is or why. "
+             "The values at each step are those of the run (or pair) the number comes from.",
+             "", _row("claim", "number", "threshold", "value", "error", "values at each step",
+                      "margin to the threshold", "decides"),
+             "|---|---|---|---|---|---|---|---|"]
     for i, rows in enumerate(s["deciding_numbers"], start=1):
         for r in rows:
             threshold = _threshold(r) if r["relation"] is not None else "-"
-            error = "-" if r["abs_diff"] is None else quantity(r["abs_diff"], r["unit"], True)
+            error = ("-" if r["error"] is None else
+                     quantity(r["error"], r["unit"], True) if r["converged"] else
+                     f"not converged (span {quantity(r['error'], r['unit'])})")
             margin = "-" if r["margin"] is None else \
                 f"{quantity(r['margin'], r['unit'])} = {_flip(r)}"
             lines.append(_row(
                 i, f"{r['name']} ({', '.join(r['runs'])})", threshold,
-                quantity(r["value"], r["unit"]), quantity(r["half_value"], r["unit"]), error,
-                quantity(r["extrapolated"], r["unit"]), margin,
+                quantity(r["value"], r["unit"]), error, _by_step(r), margin,
                 "yes" if r["decides"] else "*context*"))
     return lines + [""]
 
@@ -301,24 +316,38 @@ def _why_one(s):
             f"{verdict}")
 
 
-def _why_three(c):
-    runs = c.get("per_run", {})
+def _split_cell(row, scale, digits, unit=""):
+    text = f"{_signed(scale * row['value'], digits)}{unit}"
+    if row["converged"] is False:
+        return text + " (not converged: " + ", ".join(
+            f"{_signed(scale * v, digits)}" for v in row["values"]) + ")"
+    if row["error"] is not None:
+        return text + f" ±{scale * row['error']:.{digits}f}"
+    return text
+
+
+def _why_three(s):
     return ("after the lane change the dry struts stick at different extensions left and "
             "right, and the coil springs carry the difference into the wheel loads (steady "
-            "changes from place a to place b, window averages): "
-            + "; ".join(f"{n}: Δd_L-Δd_R {_signed(1e3 * d['left_minus_right_change_m'], 2)} "
-                        f"mm, load split {_signed(d['front_load_split_change_N'], 0)} N "
-                        f"({100 * d['front_load_split_change_rel']:.2f} % of the corner load)"
-                        for n, d in sorted(runs.items())))
+            "changes from place a to place b, window averages, at the finest step each run "
+            "tried): "
+            + "; ".join(f"{n}: Δd_L-Δd_R {_split_cell(d['lr_change_m'], 1e3, 2, ' mm')}, "
+                        f"load split {_split_cell(d['split_change'], 100, 2, ' %')} of the "
+                        "corner load" for n, d in sorted(s["split_changes"].items())))
 
 
 def _disagreements(s):
-    bad = [(i, c) for i, c in enumerate(s["claims"], start=1) if not c["reproduced"]]
+    bad = [(i, c) for i, c in enumerate(s["claims"], start=1)
+           if not c["reproduced"] or c.get("decided") is False]
     if not bad:
         return []
     lines = ["## Where the model disagrees with the paper, and why", ""]
     for i, c in bad:
-        why = _why_one(s) if i == 1 else _why_three(c) if i == 3 else c.get("why", "")
+        why = _why_one(s) if i == 1 else _why_three(s) if i == 3 else c.get("why", "")
+        if c.get("decided") is False:
+            open_ = [r for r in s["deciding_numbers"][i - 1] if r["decides"] and not r["decided"]]
+            why = "undecided: " + "; ".join(f"{r['name']}: {_by_step(r)} ({_flip(r)})"
+                                            for r in open_) + ("; " + why if why else "")
         lines.append(f"- **{i}. {c['claim']}** ({_links(i, s['figures'])}): "
                      f"{why.rstrip('.')}.")
     return lines + [""]
@@ -332,16 +361,14 @@ def _places_tables(s):
         lines.append(f"| {name} | {1e3 * pos['dd_left_at_a_m']:.3f} | "
                      f"{1e3 * pos['dd_left_at_b_m']:.3f} | {1e3 * pos['dd_right_at_a_m']:.3f} | "
                      f"{1e3 * pos['dd_right_at_b_m']:.3f} |")
-    per_run = s["claims"][2].get("per_run") if len(s["claims"]) > 2 else None
-    if per_run:
-        lines += ["", "## Front left-right split from place a to place b (steady: window "
-                  "averages)", "",
-                  "| run | change of Δd_left - Δd_right [mm] | change of Fz_fl - Fz_fr [N] | "
-                  "of the corner load [%] |", "|---|---|---|---|"]
-        for name, d in sorted(per_run.items()):
-            lines.append(_row(name, _signed(1e3 * d["left_minus_right_change_m"], 3),
-                              _signed(d["front_load_split_change_N"], 1),
-                              f"{100 * d['front_load_split_change_rel']:.2f}"))
+    lines += ["", "## Front left-right split from place a to place b (steady: window "
+              "averages; each run at the finest step it tried, ± its converged error)", "",
+              "| run | change of Δd_left - Δd_right [mm] | change of Fz_fl - Fz_fr, of the "
+              "corner load [%] | steps tried [ms] |", "|---|---|---|---|"]
+    for name, d in sorted(s["split_changes"].items()):
+        lines.append(_row(name, _split_cell(d["lr_change_m"], 1e3, 3),
+                          _split_cell(d["split_change"], 100, 2),
+                          ", ".join(f"{1e3 * h:g}" for h in d["split_change"]["steps_s"])))
     return lines + [""]
 
 

@@ -1,0 +1,175 @@
+"""Accuracy on demand: runs refined by halving their time step until each outcome they decide
+with has converged within its tolerance, on the sweep runner (all the runs of a halving in one
+sweep, in parallel).
+
+Generic: the runs are scenes, the outcomes any numbers a caller computes from the runs made at
+one step (``outcomes_of``), keyed (subject, outcome): a subject is a run's name, or names joined
+by "|" for an outcome of several runs (it is computed only where all of them ran at that step).
+
+Convergence (``classify``), on the values at h, h/2, h/4, ... (the last three): with
+d1 = |x(h/2^(k-2)) - x(h/2^(k-1))| and d2 = |x(h/2^(k-1)) - x(h/2^k)|, an outcome has converged
+when d2 is within its tolerance and the differences shrink as a scheme of ``order`` p makes them
+shrink (d2 ≤ 1.5 · 2^-p · d1: the slack for a ratio measured on two differences), or both
+differences are below a tenth of the tolerance (three steps agree where there is nothing left
+to shrink, e.g. a count). Its error is then d2 (for p = 1 Richardson's estimate of the finer
+value's error; an overestimate where it converges faster); the observed order is log2(d1/d2).
+Otherwise it has not converged: its error is the span of the last three values and the values
+at every step are kept, never a number with a small error. Two steps alone cannot tell
+"converged" from "both on the same wrong branch" of a stick-slip outcome, hence three.
+
+The loop (``refine``): the first round runs every scene at h, h/2 and h/4 (one sweep); each
+further round halves the step of the runs an unconverged outcome needs, until every outcome
+has converged, the next step would be finer than ``finest_step_s``, or ``budget_s`` of wall
+time is spent. Each round's wall time and each run's simulation wall time are recorded.
+Refining starts each run from its start, not from a coarser run's saved state (branching
+within one step is the sweep runner's: ``sim.branch``): a state saved at another step would
+carry that step's error into the finer run.
+"""
+
+import dataclasses
+import math
+import time
+
+SLACK = 1.5  # of the expected ratio 2^-p between successive differences
+NOISE = 0.1  # of the tolerance: differences this small need not shrink
+
+
+def halved(scene, halvings=1):
+    """``scene`` with its plant's time step divided by 2**halvings (the rest as it is)."""
+    from pydrake.multibody.plant import MultibodyPlantConfig
+    plant = scene.plant
+    config = MultibodyPlantConfig(**{f.name: getattr(plant, f.name)
+                                     for f in MultibodyPlantConfig.__fields__})
+    config.time_step = plant.time_step / 2 ** halvings
+    return dataclasses.replace(scene, plant=config)
+
+
+def classify(values, tolerance, order=1):
+    """Convergence of an outcome from its ``values`` at successive halvings of the step (see
+    the module). Returns {"converged", "value" (the finest), "error", "observed_order" (None
+    when not measurable)}."""
+    values = [float(v) for v in values]
+    last = values[-1]
+    if len(values) < 3:
+        span = max(values) - min(values)
+        return {"converged": False, "value": last, "error": span, "observed_order": None}
+    x0, x1, x2 = values[-3:]
+    d1, d2 = abs(x0 - x1), abs(x1 - x2)
+    observed = math.log2(d1 / d2) if d1 > 0 and d2 > 0 else None
+    shrinks = d2 <= SLACK * 2.0 ** -order * d1
+    quiet = max(d1, d2) <= NOISE * tolerance
+    if d2 <= tolerance and (shrinks or quiet):
+        return {"converged": True, "value": x2, "error": d2, "observed_order": observed}
+    return {"converged": False, "value": x2, "error": max(x0, x1, x2) - min(x0, x1, x2),
+            "observed_order": observed}
+
+
+@dataclasses.dataclass
+class Refined:
+    """What ``refine`` found. ``outcomes``: (subject, outcome) -> {"unit", "tolerance",
+    "steps_s" and "values" (at each step tried), "converged", "value", "error",
+    "observed_order", "step_s" (the finest tried)}; ``runs``: level -> name -> Run (level k:
+    the scene's step / 2**k); ``steps_s``: name -> the steps it ran at; ``needed_step_s``:
+    name -> the finest step it ran at (None if a budget stopped it unconverged there: see
+    ``converged_runs``); ``rounds``: [{"step_s": steps, "runs": count, "wall_s"}];
+    ``wall_s``: the whole refinement's wall time; ``stopped``: why it stopped."""
+    outcomes: dict
+    runs: dict
+    steps_s: dict
+    rounds: list
+    wall_s: float
+    stopped: str
+
+    def run_wall_s(self, name):
+        """The simulation wall time of run ``name`` at every step it ran at (s)."""
+        return sum(level[name].wall_s for level in self.runs.values() if name in level)
+
+    def finest_step_s(self):
+        return min(min(steps) for steps in self.steps_s.values())
+
+
+def subjects_runs(subject):
+    return subject.split("|")
+
+
+def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
+           finest_step_s=None, budget_s=None, drives=None, first_extra=None, halve=halved):
+    """Refines ``scenes`` (name -> Scene) until the outcomes converge (see the module).
+
+    ``outcomes_of(runs)``: runs (name -> Run, all at one halving) -> {(subject, outcome):
+    (value, unit)} for the subjects whose runs are all there. ``tolerances``: outcome ->
+    absolute tolerance (in its unit). ``simulate(scenes)``: name -> Run for name -> Scene (e.g.
+    ``sweep.runner.run_scenes``; called once per round). ``drives``: the outcomes whose
+    convergence is refined for (default: every outcome with a tolerance); the others are
+    classified on the steps their runs ran at. ``first_extra``: scenes run in the first round's
+    sweep too, not refined (returned as level "extra"). ``halve(scene, k)``: the scene at
+    its step / 2**k (default ``halved``)."""
+    began = time.perf_counter()
+    drives = set(tolerances) if drives is None else set(drives)
+    runs, steps, rounds, values = {}, {n: [] for n in scenes}, [], {}
+    todo = {0: list(scenes), 1: list(scenes), 2: list(scenes)}
+    stopped = "every outcome converged"
+    while True:
+        batch = {}
+        for level, names in todo.items():
+            for name in names:
+                batch[_key(name, level)] = halve(scenes[name], level) if level else scenes[name]
+        extra = dict(first_extra or {}) if not rounds else {}
+        round_began = time.perf_counter()
+        done = simulate(batch | extra)
+        rounds.append({"step_s": sorted({s.plant.time_step for s in batch.values()}),
+                       "runs": len(batch), "wall_s": time.perf_counter() - round_began})
+        if extra:
+            runs["extra"] = {n: done[n] for n in extra}
+        for level, names in todo.items():
+            runs.setdefault(level, {}).update({n: done[_key(n, level)] for n in names})
+            for name in names:
+                steps[name].append(batch[_key(name, level)].plant.time_step)
+            for key, (value, unit) in outcomes_of(runs[level]).items():
+                values.setdefault(key, {"unit": unit, "by_level": {}})["by_level"][level] = value
+        found = _classified(values, tolerances, order, scenes)
+        open_ = {k for k, o in found.items() if k[1] in drives and not o["converged"]}
+        if not open_:
+            break
+        need = sorted({n for subject, _ in open_ for n in subjects_runs(subject)})
+        level = max(len(steps[n]) for n in need)
+        step = min(scenes[n].plant.time_step / 2 ** level for n in need)
+        if finest_step_s is not None and step < finest_step_s * (1 - 1e-9):
+            stopped = f"the next step ({step:g} s) would be finer than the finest allowed"
+            break
+        if budget_s is not None and time.perf_counter() - began >= budget_s:
+            stopped = f"the wall-time budget ({budget_s:g} s) is spent"
+            break
+        todo = {}
+        for name in need:  # each needed run one halving further than it went
+            todo.setdefault(len(steps[name]), []).append(name)
+        # A subject's runs must all reach the new level, or its outcome is not computed there.
+        for subject, _ in open_:
+            names = subjects_runs(subject)
+            top = max(len(steps[n]) for n in names)
+            for n in names:
+                for lv in range(len(steps[n]), top + 1):
+                    if n not in todo.get(lv, []):
+                        todo.setdefault(lv, []).append(n)
+    return Refined(_classified(values, tolerances, order, scenes), runs, steps, rounds,
+                   time.perf_counter() - began, stopped)
+
+
+def _key(name, level):
+    return name if level == 0 else f"{name} at dt/{2 ** level}"
+
+
+def _classified(values, tolerances, order, scenes):
+    out = {}
+    for (subject, outcome), v in values.items():
+        levels = sorted(v["by_level"])
+        series = [v["by_level"][lv] for lv in levels]
+        base = scenes[subjects_runs(subject)[0]].plant.time_step
+        tolerance = tolerances.get(outcome)
+        found = classify(series, math.inf if tolerance is None else tolerance, order)
+        out[(subject, outcome)] = {
+            "unit": v["unit"], "tolerance": tolerance, "steps_s": [base / 2 ** lv for lv in levels],
+            "values": series, "step_s": base / 2 ** levels[-1], **found}
+        if tolerance is None:
+            out[(subject, outcome)]["converged"] = None  # no tolerance: not judged
+    return out
