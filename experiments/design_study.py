@@ -1,89 +1,12 @@
-"""The design study: where, over the strut's design and the severity of use, does strut
-friction change the front wheel loads and the steering? (scenes/studies/design.yaml: the base
-scene, the factors with their ranges and reasons, the maps, the lines, the sample sizes.)
+"""The design study: where, over the strut's design and the severity of use, friction
+changes the front wheel loads and the steering.
 
-Runs, all on the sweep runner (a local Dask cluster, or --scheduler ADDRESS), kept in
-DIR/sweep/ (a rerun reuses every finished run):
-  - 2-D maps (hands off after the manoeuvre: the lasting load split and the pull);
-  - lines: one factor at a time (spring inclination, top mount, speed-up) at two μs, hands off;
-  - Sobol's sample over the factors (SALib; hands on: the split and the rack-force change);
-  - a Monte Carlo of jam states (random road unevenness before the manoeuvre, hands off);
-  - each mitigation over the same states; a sample of all of these at half the step (noise).
-Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/: table.csv
-(one row per run), the maps, lines.png, sobol.png, monte_carlo.png and summary.json.
-
-  python experiments/design_study.py --out results/design          (about 30 min here)
-  python experiments/design_study.py --out /tmp/design --quick     (a smoke run, ~2 min)
+The command is ``drake_car.commands.design``, also installed as ``drake-car-design``;
+``--help`` says what it writes. Example: python experiments/design_study.py --out results/design
 """
 
-import os
-import time
-
 from drake_car import cli
-from drake_car.data import resource
-from drake_car.scene.load import parse_scene_option
-from drake_car.results.files import write_csv, write_json
-from drake_car.results.folder import OutputError, check_output_target, output_folder
-from drake_car.study.design import analysis as design_analysis
-from drake_car.study.design import report as design_report
-from drake_car.study.design import runs as runs_of
-from drake_car.study.design.spec import load_study
-from drake_car.sweep.runner import run_sweep
-
-
-def main(argv=None):
-    p = cli.parser(__doc__)
-    p.add_argument("--study", default=f"{resource('scenes/studies/design.yaml')}:study",
-                   help="the study's spec, FILE:ENTRY (default: %(default)s)")
-    p.add_argument("--quick", action="store_true", help="a smoke run of every part")
-    p.add_argument("--scheduler", default=None, help="a Dask scheduler's address")
-    p.add_argument("--workers", type=cli.count, default=None, help="local workers (default: cores)")
-    p.add_argument("--rerun_failed", action="store_true",
-                   help="run the failed runs again (a rerun reuses them otherwise)")
-    args = p.parse_args(argv)
-    path, child = parse_scene_option(args.study)
-    study = load_study(path, child)
-    if args.quick:
-        study = runs_of.quick(study)
-    check_study_folder(args.out)
-    began = time.perf_counter()
-    parts = {"map": {name: (runs_of.hands_off(study, scene), values)
-                     for name, (scene, values) in runs_of.map_scenes(study).items()},
-             "line": runs_of.line_scenes(study), "sobol": runs_of.sobol_scenes(study),
-             "mc": runs_of.monte_carlo_scenes(study), "mitigation": runs_of.mitigation_scenes(study)}
-    named = {name: entry for part in parts.values() for name, entry in part.items()}
-    parts["noise"] = runs_of.noise_scenes(study, named, runs_of.noise_sample(study, parts))
-    named |= parts["noise"]
-    sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, args.out / "sweep",
-                      scheduler=args.scheduler, workers=args.workers,
-                      rerun_failed=args.rerun_failed)
-    rows = design_analysis.table(study, parts, args.out / "sweep")
-    with output_folder(args.out / "study") as out:
-        summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began)
-        write_csv(out / "table.csv", {k: [row[k] for row in rows] for k in rows[0]})
-        write_json(out / "summary.json", summary)
-    report = args.out / "report.md"
-    partial = args.out / f".report.md.partial-{os.getpid()}"
-    try:
-        partial.write_text(design_report.report(summary, figures="study/"))
-        os.replace(partial, report)
-    finally:
-        partial.unlink(missing_ok=True)
-    print(f"{len(rows)} runs ({sweep['reused']} reused, {sweep['failed']} failed); wrote "
-          f"{report}")
-
-
-def check_study_folder(out):
-    """``out`` is new, empty, or a design study's folder (its runs are resumed): refused before
-    any work otherwise."""
-    if out.exists() and not out.is_dir():
-        raise OutputError(f"--out {out}: is a file, not a folder")
-    if out.is_dir() and any(out.iterdir()) and not (out / "sweep").is_dir():
-        raise OutputError(f"--out {out}: exists, is not empty and holds no design study (no "
-                          "sweep/ folder); choose a new or empty folder, or a study's to resume")
-    check_output_target(out / "study")
-
+from drake_car.commands.design import main
 
 if __name__ == "__main__":
     cli.run_main(main)
-

@@ -1,92 +1,12 @@
-"""Handling tests of the car, its understeer budget and a cross-check against an independent
-model of the same car, from the two scenes of scenes/handling.yaml (steady_state: ISO 4138
-continuous ramp steer at 60 km/h; step_steer: ISO 7401 step steer at 60 km/h). Writes into DIR:
+"""The handling tests (ISO 4138 ramp steer, ISO 7401 step steer), the understeer budget and
+the cross-check against CommonRoad's model of the same car.
 
-  steady_state/   the run (history.csv, scene.yaml, run.json), steady_state.csv (the standard's
-                  quantities at the CoG), steady_state.json (gradients, yaw gain, the
-                  single-track model), steady_state.png
-  step_steer/     the run, step_steer.csv, step_steer.json (response times, overshoot, gains),
-                  step_steer.png
-  budget.csv, budget.json, budget_series.csv, budget.png
-                  the understeer gradient split into named terms (drake_car/study/handling/understeer.py)
-  crosscheck/     CommonRoad's multi-body model (parameter set 1, Ford Escort) on our runs'
-                  road-wheel steer at our speed: ramp.csv, step.csv, crosscheck.json,
-                  crosscheck_ramp.png, crosscheck_step.png
-  steering.csv    the rack-to-road-wheel relation (chassis fixed) the understeer gradient uses
-  summary.json, report.md, diagram.svg
-
---scene_text is laid over both scenes (e.g. "drive: !PrescribedRotation {}"); --ay_range is the
-linear range the gradients are fitted over. The cross-check needs the test extra
-commonroad-vehicle-models; without it (or with --no_crosscheck) it is left out and the report
-says so.
-
-Example:  python experiments/handling.py --out results/handling
-          python experiments/handling.py --out results/handling_locked \\
-              --scene_text "drive: !PrescribedRotation {}"
+The command is ``drake_car.commands.handling``, also installed as ``drake-car-handling``;
+``--help`` says what it writes. Example: python experiments/handling.py --out results/handling
 """
 
-import argparse
-import time
-
 from drake_car import cli
-from drake_car.data import resource
-from drake_car.results.files import write_json, write_text
-from drake_car.results.folder import output_folder
-from drake_car.results.provenance import provenance
-from drake_car.scene.load import load_scene_file
-from drake_car.study.handling.analysis import check_scenes, crosscheck_left_out, handling_study
-from drake_car.study.handling.measures import DEFAULT_AY_RANGE, HandlingError
-from drake_car.study.handling.outputs import summary, write_outputs
-from drake_car.study.handling.report import report
-from drake_car.study.paper.claims import StudyError
-
-HANDLING = resource("scenes/handling.yaml")
-
-
-def ay_range(text):
-    try:
-        lo, hi = (float(v) for v in text.split(","))
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"--ay_range: {text!r} must be two numbers LO,HI (m/s²)") from None
-    if not 0 <= lo < hi <= 10:
-        raise argparse.ArgumentTypeError(
-            f"--ay_range: {lo}, {hi} must satisfy 0 <= LO < HI <= 10 m/s²")
-    return lo, hi
-
-
-def main(argv=None):
-    p = cli.parser(__doc__)
-    p.add_argument("--scene", default=str(HANDLING),
-                   help="the handling scenes file (default: %(default)s)")
-    p.add_argument("--scene_text", default="", help="YAML laid over both scenes")
-    p.add_argument("--ay_range", type=ay_range, default=DEFAULT_AY_RANGE,
-                   help="LO,HI: the linear range of a_y (m/s²) the gradients are fitted over "
-                        "(default: 0.5,3.0)")
-    p.add_argument("--no_crosscheck", action="store_true",
-                   help="leave out the cross-check against CommonRoad's model")
-    args = p.parse_args(argv)
-    cli.check_out(args)
-    scenes = load_scene_file(args.scene, args.scene_text or None)
-    check_scenes(scenes, args.scene)
-    why = crosscheck_left_out(args.no_crosscheck)
-    began = time.perf_counter()
-    with output_folder(args.out) as out:
-        try:
-            runs, result, walls = handling_study(scenes, args.ay_range, crosscheck_why=why)
-        except HandlingError as e:
-            raise StudyError(f"{args.scene}: {e}") from None
-        write_outputs(out, runs, result)
-        result["wall_s"] = {"total": time.perf_counter() - began} | walls
-        result["provenance"] = provenance()
-        write_json(out / "summary.json", summary(result))
-        write_text(out / "report.md", report(result))
-    ss = result["steady_state"]["metrics"]
-    print(f"understeer {ss['understeer_gradient_deg_per_g']:.2f} deg/g, roll "
-          f"{ss['roll_gradient_deg_per_g']:.2f} deg/g, yaw gain "
-          f"{result['steady_state']['yaw_gain_ratio']:.3f} of the single-track model; wrote "
-          f"{args.out} (report: {args.out / 'report.md'})")
-
+from drake_car.commands.handling import main
 
 if __name__ == "__main__":
     cli.run_main(main)

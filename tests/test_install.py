@@ -36,3 +36,20 @@ def test_a_wheel_installs_and_runs_from_any_folder(tmp_path):
         cwd=elsewhere, env=env, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
     assert (elsewhere / "out" / "history.csv").is_file()
+
+
+def test_every_console_script_names_a_command_with_help():
+    """Every console script of pyproject.toml names a ``console`` function of a module whose
+    parser's --help says what it writes (an --out folder, or a folder it reads)."""
+    import importlib
+    import tomllib
+    scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    assert {"drake-car-run", "drake-car-sweep", "drake-car-paper", "drake-car-design",
+            "drake-car-handling", "drake-car-tyre"} <= set(scripts)
+    for name, target in scripts.items():
+        module, _, function = target.partition(":")
+        assert callable(getattr(importlib.import_module(module), function)), name
+        shown = subprocess.run([sys.executable, "-m", module, "--help"], cwd=ROOT,
+                               capture_output=True, text=True, timeout=300)
+        assert shown.returncode == 0, (name, shown.stderr[-1000:])
+        assert "--out" in shown.stdout, (name, shown.stdout[:500])

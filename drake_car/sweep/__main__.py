@@ -253,5 +253,10 @@ def _log_invocation(out, entry):
 
 
 
-if __name__ == "__main__":
+def console():
+    """The console script ``drake-car-sweep``."""
     cli.run_main(main)
+
+
+if __name__ == "__main__":
+    console()

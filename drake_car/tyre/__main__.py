@@ -43,5 +43,10 @@ def main(argv=None):
     print(text + f"wrote {args.out}", file=sys.stderr)
 
 
-if __name__ == "__main__":
+def console():
+    """The console script ``drake-car-tyre``."""
     cli.run_main(main)
+
+
+if __name__ == "__main__":
+    console()

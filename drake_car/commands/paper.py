@@ -1,0 +1,183 @@
+"""The paper's study (Harlecki & Kubas, section 4): two lane changes at 60 km/h (a: left turn
+first, b: right turn first) × three strut friction sets, from the six scenes of
+scenes/paper_study.yaml. Writes into DIR:
+
+  <run>/history.csv, scene.yaml, run.json   each run as it ran (the scene with every value)
+  <run>.csv               the study's columns of each run (Δd from static equilibrium, μ1, ...)
+  fig13.png ... fig16.png the paper's figures (places a and b shaded, both struts in Fig. 16)
+  claim1_return.png, load_split.png, symmetry.png, rod_rotation.png   a figure per claim
+  summary.json, report.md the paper's claims: reproduced or not, the deciding numbers beside
+                          their thresholds with their numerical error, the figures
+  diagram_overview.svg    the Diagram of the replayed run at a glance; diagram.svg every port
+  <run>/replay.html       the Meshcat replay of the highest-friction run of case a
+
+  outcomes.csv            one row per run (or mirror pair) and outcome: run, outcome, value,
+                          error, unit, step_s, converged, tolerance, observed_order,
+                          steps_tried_s, values_by_step, run_wall_s; the report, summary.json
+                          and load_split.png read it
+
+Accuracy on demand (skip it with --no_verify): every run is repeated at dt/2 and dt/4, and the
+runs whose deciding outcomes have not converged within their tolerances
+(``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
+a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
+(``sweep.refine``). Every error is a run's own difference between steps; a claim is decided
+only where its margin exceeds it, else the report says "undecided at the finest step tried".
+Each round of runs goes as one sweep (``sweep.runner.run_scenes``: in parallel on one
+cluster for the whole job, a progress bar over the runs on a terminal): the first round is the
+six runs, their dt/2 and dt/4 repetitions and the six with the paper's drive. Options and scenes: --scene_text is laid over every run's scene (e.g.
+"plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
+added to one run's scene (so its saved scene says so).
+
+Example:  python experiments/lane_change.py --out results
+"""
+
+import dataclasses
+import time
+from pathlib import Path
+from resource import RUSAGE_CHILDREN, RUSAGE_SELF, getrusage
+
+from drake_car import cli
+from drake_car.data import resource
+from drake_car.scene.load import load_scene_file
+from drake_car.scene.scene import MeshcatReplay, NoVisualization, PrescribedRotation
+from drake_car.results.diagram import write_diagram_overview_svg, write_diagram_svg
+from drake_car.results.files import write_csv, write_json, write_run
+from drake_car.results.folder import output_folder
+from drake_car.results.provenance import provenance
+from drake_car.study.paper.figures import all_figures
+from drake_car.study.paper.claims import (
+    check_study_scenes, evaluate_claims, friction_of, study_columns, study_runs)
+from drake_car.study.paper.outcomes import (
+    DRIVES, at_one_step, outcomes_of_runs, read_outcomes, study_outcomes, tolerances,
+    write_outcomes)
+from drake_car.study.paper.report import report, summary
+from drake_car.sweep.refine import halved, refine
+from drake_car.sweep.runner import cores, dask_client, run_scenes
+
+PAPER_STUDY = resource("scenes/paper_study.yaml")
+PAPER_DRIVE = " paper's drive"  # the run with the paper's drive, among the sweep's names
+
+
+def main(argv=None):
+    p = cli.parser(__doc__)
+    p.add_argument("--scene", default=str(PAPER_STUDY),
+                   help="the study's scenes file (default: %(default)s)")
+    p.add_argument("--scene_text", default="", help="YAML laid over every run's scene")
+    p.add_argument("--no_verify", action="store_true",
+                   help="no accuracy on demand: every run at its scene's step only, no "
+                        "numerical error estimated")
+    p.add_argument("--finest_step_s", type=cli.positive("--finest_step_s"), default=6.25e-5,
+                   help="the finest step accuracy on demand may try (default: %(default)g)")
+    p.add_argument("--budget_s", type=cli.positive("--budget_s"), default=1800.0,
+                   help="no further halving once the refinement has taken this much wall "
+                        "time (default: %(default)g)")
+    p.add_argument("--runs_dir", type=Path, default=None,
+                   help="keep every run (each step tried) in this sweep folder too, by its "
+                        "scene's hash: a rerun reuses them (default: in memory only)")
+    p.add_argument("--no_html", action="store_true", help="no Meshcat replay")
+    p.add_argument("--no_paper_drive", action="store_true",
+                   help="skip the comparison with the paper's own drive (both front wheels' "
+                        "rotation prescribed: a locked front axle)")
+    p.add_argument("--scheduler", default=None,
+                   help="a Dask scheduler's address (default: a local cluster)")
+    p.add_argument("--workers", type=cli.count, default=None,
+                   help="local workers (default: one per core)")
+    args = p.parse_args(argv)
+    cli.check_out(args)
+    scenes = load_scene_file(args.scene, args.scene_text or None)
+    roles = check_study_scenes(scenes)  # before any work
+    replayed = None
+    if not args.no_html:
+        case_a = [n for n, s in scenes.items() if getattr(s.manoeuvre, "case", None) == "a"]
+        replayed = max(case_a, key=lambda n: friction_of(scenes[n])[0]) if case_a else None
+        if replayed is not None:
+            scenes[replayed] = dataclasses.replace(scenes[replayed],
+                                                   visualization=MeshcatReplay())
+    began = time.perf_counter()
+    timeline = next(iter(scenes.values())).manoeuvre.timeline
+    with output_folder(args.out) as out:
+        locked = {} if args.no_paper_drive else {
+            name + PAPER_DRIVE: dataclasses.replace(s, drive=PrescribedRotation(),
+                                                    visualization=NoVisualization())
+            for name, s in scenes.items()}
+        count = len(scenes) * (1 if args.no_verify else 3) + len(locked)
+        with dask_client(args.scheduler, min(args.workers or cores(), count)) as client:
+            def simulate(batch):
+                return run_scenes(batch, client=client, out_dir=args.runs_dir)
+            if args.no_verify:
+                done = simulate(scenes | locked)
+                runs = {name: done[name] for name in scenes}
+                locked_runs = {name: done[name + PAPER_DRIVE] for name in scenes if locked}
+                table = at_one_step(study_outcomes(
+                    {n: study_columns(r.history) for n, r in runs.items()}, roles, timeline))
+                for (name, _), row in table.items():
+                    row["steps_s"] = [scenes[name.split("|")[0]].plant.time_step]
+                    row["step_s"] = row["steps_s"][0]
+                run_wall, refinement = {n: r.wall_s for n, r in runs.items()}, None
+            else:
+                refined = refine(scenes, outcomes_of_runs(roles, timeline), tolerances(),
+                                 simulate, finest_step_s=args.finest_step_s,
+                                 budget_s=args.budget_s, drives=DRIVES, first_extra=locked,
+                                 halve=_unseen_halved)
+                runs = refined.runs[0]
+                locked_runs = {name: refined.runs["extra"][name + PAPER_DRIVE]
+                               for name in scenes if locked}
+                table = refined.outcomes
+                run_wall = {n: refined.run_wall_s(n) for n in scenes}
+                refinement = {"rounds": refined.rounds, "wall_s": refined.wall_s,
+                              "stopped": refined.stopped,
+                              "finest_step_s": refined.finest_step_s(),
+                              "steps_s": refined.steps_s}
+        write_outcomes(out / "outcomes.csv", table, run_wall)
+        outcomes = read_outcomes(out / "outcomes.csv")  # what the report and figures read
+        study = study_runs(runs)
+        claims, shifts = evaluate_claims(study, timeline)
+        paper_drive = None
+        if locked:
+            locked_study = study_runs(locked_runs)
+            locked_claims, _ = evaluate_claims(locked_study, timeline)
+            paper_drive = {"verdicts": [c["reproduced"] for c in locked_claims],
+                           "numbers": [c["number"] for c in locked_claims]}
+        for name, run in runs.items():
+            (out / name).mkdir()
+            write_run(run, out / name, diagram=False)
+            write_csv(out / f"{name}.csv", study[name].columns)
+        figures = all_figures(study, timeline, out, outcomes=outcomes)
+        shown = replayed or next(iter(runs))
+        write_diagram_svg(runs[shown].diagram_dot, out / "diagram.svg")
+        write_diagram_overview_svg(runs[shown].diagram_dot, out / "diagram_overview.svg")
+        s = summary(study, claims, shifts, timeline, runs=runs, outcomes=outcomes,
+                    refinement=refinement, figures=figures,
+                    wall_s=time.perf_counter() - began, provenance=provenance(),
+                    replay=replayed)
+        s["cpu_s"] = _cpu_s()
+        s["paper_drive"] = paper_drive
+        write_json(out / "summary.json", s)
+        (out / "report.md").write_text(report(s))
+        claims = s["claims"]
+    failed = [c["claim"] for c in claims if not c["reproduced"]]
+    undecided = sum(c.get("decided") is False for c in claims)
+    print(f"{len(claims) - len(failed)} of {len(claims)} claims reproduced, {undecided} "
+          f"undecided at the finest step tried; wrote {args.out} "
+          f"(report: {args.out / 'report.md'})")
+
+
+def _unseen_halved(scene, halvings):
+    """A refinement's run: the scene at a finer step, without a replay."""
+    return halved(dataclasses.replace(scene, visualization=NoVisualization()), halvings)
+
+
+def _cpu_s():
+    """CPU time of this process and its finished children (the local cluster's workers,
+    reaped when it closes), user + system (s)."""
+    return sum(getattr(getrusage(who), f) for who in (RUSAGE_SELF, RUSAGE_CHILDREN)
+               for f in ("ru_utime", "ru_stime"))
+
+
+def console():
+    """The console script ``drake-car-paper``."""
+    cli.run_main(main)
+
+
+if __name__ == "__main__":
+    console()
