@@ -5,6 +5,7 @@ the replay page when the scene asks for one."""
 
 import dataclasses
 import functools
+import math
 import sys
 import time
 
@@ -43,6 +44,7 @@ class Run:
     final: dict
     diagram_dot: str
     replay_html: str | None = None
+    cpu_s: float = math.nan  # CPU seconds of the simulation loop (this process, all threads)
 
     def __getstate__(self):
         # Drake's configs do not pickle: a Run travels (to and from sweep workers) with its
@@ -131,6 +133,7 @@ class Runner:
                                instance=self.built.car.instance)
         self.progress = progress
         self.wall_s = 0.0
+        self.cpu_s = 0.0
 
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
@@ -148,7 +151,7 @@ class Runner:
         first = int(np.floor(now / period + 1e-9)) + 1
         last = max(first, int(np.ceil(end / period - 1e-9)))
         bar = _progress_bar(self.scene, self.scene.end_time_s, now) if self.progress else None
-        began = time.perf_counter()
+        began, cpu_began = time.perf_counter(), time.process_time()
         try:
             for k in range(first, last + 1):
                 target = min(k * period, end)
@@ -160,6 +163,7 @@ class Runner:
                     bar.update(target - bar.n)
         finally:
             self.wall_s += time.perf_counter() - began
+            self.cpu_s += time.process_time() - cpu_began
             if bar is not None:
                 bar.close()
 
@@ -173,7 +177,8 @@ class Runner:
         return Run(scene=scene, history=history, wall_s=self.wall_s,
                    frozen_sap_steps=stats.frozen_steps,
                    first_frozen_sap_step_s=stats.first_frozen_time_s, steps=stats.steps,
-                   final=final_state(built, root), diagram_dot=dot, replay_html=html)
+                   final=final_state(built, root), diagram_dot=dot, replay_html=html,
+                   cpu_s=self.cpu_s)
 
 
 def static_equilibrium(scene: Scene) -> Equilibrium:
