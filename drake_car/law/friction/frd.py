@@ -73,6 +73,14 @@ def shape(x, kind):
     return x * x * (3.0 - 2.0 * x) if kind == "cubic" else x
 
 
+def shape_slope(x, kind):
+    """ds/dx of ``shape`` at x: 6x(1 - x) for the cubic STEP, 1 for linear, on [0, 1); 0 outside
+    (where the shape is clipped)."""
+    if not 0.0 <= x < 1.0:
+        return 0.0
+    return 6.0 * x * (1.0 - x) if kind == "cubic" else 1.0
+
+
 def shape_max_slope(kind):
     """max ds/dx of the shape: 1.5 for the cubic STEP, 1 for linear."""
     return 1.5 if kind == "cubic" else 1.0
