@@ -94,6 +94,18 @@ def outcomes(run):
     return values, h
 
 
+def scaled(scene, scale):
+    """The scene with every phase of its timeline shortened by ``scale`` (quick checks)."""
+    if scale == 1.0:
+        return scene
+    t = scene.manoeuvre.timeline
+    timeline = dataclasses.replace(
+        t, settle_s=t.settle_s * scale, speed_up_s=t.speed_up_s * scale,
+        straight_s=t.straight_s * scale, steer_s=t.steer_s * scale, calm_s=t.calm_s * scale)
+    return dataclasses.replace(scene, manoeuvre=dataclasses.replace(scene.manoeuvre,
+                                                                    timeline=timeline))
+
+
 def mirror_residual_mm(ha, hb):
     """Claim 4's residual between a_k and b_k (mm), on their common samples."""
     n = min(len(ha["t"]), len(hb["t"]))
@@ -120,6 +132,9 @@ def main(argv=None):
     p.add_argument("--explicit_runs", default=",".join(RUNS),
                    help="the runs the explicit scheme runs for (it costs ~1e3 times the fast)")
     p.add_argument("--scene", default=str(PAPER_STUDY))
+    p.add_argument("--scene_text", default="", help="YAML laid over every run's scene")
+    p.add_argument("--scale_time", type=cli.positive("scale_time"), default=1.0,
+                   help="shorten every phase of the timeline by this factor (quick checks)")
     p.add_argument("--workers", type=cli.count, default=None)
     p.add_argument("--runs_dir", default="results/accuracy_cost_runs",
                    help="the sweeps' folders (<runs_dir>/fast, <runs_dir>/reference), kept "
@@ -135,7 +150,8 @@ def main(argv=None):
         p.error(f"--explicit_runs {explicit_runs} must be among --runs {runs}")
     fast = steps_of(p, args.fast_steps, "fast_steps")
     explicit = steps_of(p, args.explicit_steps, "explicit_steps")
-    bases = {r: load_scene(args.scene, child=r) for r in runs}
+    bases = {r: scaled(load_scene(args.scene, child=r, scene_text=args.scene_text or None),
+                       args.scale_time) for r in runs}
     cases = {}
     for r in runs:
         for dt in fast:
