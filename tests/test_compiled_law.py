@@ -15,7 +15,7 @@ from drake_car.law.tyre import packing as tp
 from drake_car.law.friction.frd import (
     KINETIC, STATIC, FrictionPairLaw, StrutFrictionParameters, advance_creep, beta,
     friction_coefficient, friction_force, friction_moment, mu1, mu_kinetic, normal_force,
-    shape_max_slope)
+    shape_max_slope, shape_slope)
 from drake_car.law.tyre.magic_formula import MagicFormulaTyre, linear_tyre, magic_formula
 from drake_car.law.road.profiles import CosineBump, Flat, SampledProfile
 from drake_car.law.tyre.contact import RadialTyre, contact_point, radial_force
@@ -213,6 +213,8 @@ def test_friction_law(law):
         close(fc.friction_coefficient(v, creep, law.mu_s, law.mu_d, law.dv, law.dmax, *cubic),
               friction_coefficient(v, creep, law), scale=1)
         close(fc.shape(abs(v) / law.dv, cubic[0]), beta(v, law), scale=1)
+        for x, kind in ((abs(v) / law.dv, law.beta_shape), (creep / law.dmax, law.creep_shape)):
+            close(fc.shape_slope(x, kind == "cubic"), shape_slope(x, kind), scale=1)
         close(law.mu_s * fc.shape(abs(creep) / law.dmax, cubic[1]), mu1(creep, law), scale=1)
         phase = RNG.choice([STATIC, KINETIC])
         displacement = RNG.uniform(-1, 1) * law.dmax
@@ -288,15 +290,24 @@ def reference_friction_step(x, reactions, initial, fast, laws, strut_laws, strut
         if not fast:
             out["actuation"][i] = force
             continue
-        out["kd"][i] = max(shape_max_slope(law.beta_shape) / law.dv * (law.mu_s + m1) * scale,
+        out["kd"][i] = max(shape_max_slope(law.beta_shape) / law.dv * law.mu_s * scale,
                            fc.MIN_GAIN)
         out["kp"][i] = fc.MIN_GAIN
         out["desired"][i] = q
         if phase == STATIC:
             out["actuation"][i] = force
             out["desired"][n + i] = v
-            out["kp"][i] = max(shape_max_slope(law.creep_shape) * law.mu_s / law.dmax * scale,
-                               fc.MIN_GAIN)
+            # The damping: the law's slope in v on the branch v is on (with the creep or
+            # against it), floored by that branch's secant over the band, blended to the
+            # steeper branch's below SLOW_FRACTION·Δv.
+            with_creep = v == 0 or creep == 0 or (v > 0) == (creep > 0)
+            branch = law.mu_s - m1 if with_creep else law.mu_s + m1
+            weight = max(0.0, 1.0 - abs(v) / law.dv / fc.SLOW_FRACTION)
+            secant = branch + (law.mu_s + m1 - branch) * weight
+            tangent = shape_slope(abs(v) / law.dv, law.beta_shape) * branch
+            out["kd"][i] = max(max(tangent, secant) / law.dv * scale, fc.MIN_GAIN)
+            out["kp"][i] = max((1 - b) * shape_slope(abs(creep) / law.dmax, law.creep_shape)
+                               * law.mu_s / law.dmax * scale, fc.MIN_GAIN)
             out["effort"][i] = max(law.mu_s * scale, fc.MIN_GAIN)
         else:
             out["effort"][i] = max(mu_kinetic(v, law) * scale, fc.MIN_GAIN)

@@ -133,15 +133,19 @@ def test_main_job_smoke(tmp_path):
 
 @pytest.mark.slow
 def test_accuracy_sweep_smoke(tmp_path):
-    """The accuracy sweep with its reference at 0.1 ms on a timeline shortened 30 times: the CSV
-    has the issue's columns and a row per case, the plot is drawn."""
+    """The accuracy sweep on a timeline shortened 30 times, a_3 and b_3 with the fast scheme at
+    two steps and the explicit one at one: a row per run, scheme, step and outcome, the mirror
+    residual between a_3 and b_3, a work-precision figure per outcome, the branches named."""
     out = tmp_path / "accuracy"
-    run(["experiments/accuracy_cost.py", "--out", out, "--scale_time", 0.033,
-         "--reference_step_s", 1e-4, "--steps", "5e-3,2e-3,1e-3,5e-5", "--explicit_step_s", 0])
+    run(["experiments/accuracy_cost.py", "--out", out, "--scale_time", 0.033, "--runs",
+         "a_3,b_3", "--fast_steps", "2e-3,1e-3", "--explicit_runs", "a_3", "--explicit_steps",
+         "6e-6", "--runs_dir", tmp_path / "runs"])
     header = (out / "accuracy_cost.csv").read_text().splitlines()[0].split(",")
-    for column in ("scene", "time_step_s", "friction_scheme", "tyre_model",
-                   "max_abs_dd_error_m", "final_dd_error_m", "wall_s", "real_time_factor"):
+    for column in ("run", "scheme", "time_step_s", "outcome", "value", "reference", "error",
+                   "cpu_s"):
         assert column in header
     rows = (out / "accuracy_cost.csv").read_text().splitlines()[1:]
-    assert len(rows) == 2 * (4 + 6 + 2)
-    assert (out / "accuracy_cost.png").is_file()
+    assert len(rows) == (2 + 2 + 1) * 8
+    assert "mirror_mm" in (out / "outcomes_by_step.csv").read_text().splitlines()[0]
+    assert (out / "accuracy_cost_split_pct.png").is_file()
+    assert "a_3: lasting split" in (out / "branches.txt").read_text()

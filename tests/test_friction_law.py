@@ -9,7 +9,8 @@ from numpy.testing import assert_allclose
 from drake_car.law.checks import ParameterError
 from drake_car.law.friction.frd import (
     KINETIC, STATIC, FrictionPairLaw, StrutFrictionParameters,
-    advance_creep, beta, friction_coefficient, friction_moment, mu1, mu_kinetic, normal_force)
+    advance_creep, beta, friction_coefficient, friction_moment, mu1, mu_kinetic, normal_force,
+    shape, shape_max_slope, shape_slope)
 
 PAPER = FrictionPairLaw(mu_s=0.2, mu_d=0.15, dv=1e-4, dmax=5e-6)
 LAWS = [PAPER, FrictionPairLaw(0.4, 0.3, 1e-4, 5e-6, "linear", "linear"),
@@ -71,6 +72,21 @@ def test_shapes():
     assert_allclose(beta(0.25e-4, cubic), 0.25 ** 2 * (3 - 0.5), atol=EPS)
     assert_allclose(beta(0.25e-4, linear), 0.25, atol=EPS)
     assert_allclose(mu1(1.25e-6, linear), 0.05, atol=EPS)
+
+
+@pytest.mark.parametrize("kind", ["cubic", "linear"])
+def test_shape_slope_is_the_shapes_derivative(kind):
+    """shape_slope (the fast scheme's tangents) against central differences of shape: the
+    cubic's truncation error is h² (its third derivative is -12, so -2h² exactly); linear is
+    exact. Zero outside [0, 1), and its maximum is shape_max_slope."""
+    h = 1e-6
+    xs = np.linspace(0.01, 0.99, 99)
+    for x in xs:
+        difference = (shape(x + h, kind) - shape(x - h, kind)) / (2 * h)
+        assert_allclose(shape_slope(x, kind), difference, atol=2 * h * h + 1e-9)
+    assert shape_slope(-0.1, kind) == shape_slope(1.0, kind) == shape_slope(1.5, kind) == 0.0
+    assert_allclose(max(shape_slope(x, kind) for x in np.linspace(0, 0.999, 1999)),
+                    shape_max_slope(kind), rtol=1e-6)
 
 
 def test_lubricated_case_is_frictionless():

@@ -204,3 +204,92 @@ def test_rotation_pair_sticks_below_and_slides_above_mu_s(ratio):
         t, w = h["t"][spinning], h["v_mps"][spinning]
         expected = (torque - LAW.mu_d * normal * radius) / inertia
         assert_allclose((w[-1] - w[0]) / (t[-1] - t[0]), expected, rtol=1e-6)
+
+
+# -- the law at its threshold (issue 19, item 6) -------------------------------------------
+
+@pytest.mark.parametrize("ratio", [0.5, 0.95, 0.99, 0.999])
+def test_fast_creep_at_the_threshold_follows_the_law(ratio):
+    """A load ratio·μs·N held from t = 0 on the 30 kg block (N = 3 kN): the creep at the car's
+    1 ms stays within 5 % of Δmax of the law's own (the explicit scheme at half its stability
+    limit, ~3 µs) at every millisecond, never exceeds Δmax and never slides; at 0.1 ms it is
+    closer still (the scheme converges to the law). The 5 % is the issue's bound, a fraction of
+    the law's Δmax; where the law itself passes Δmax (ratio 0.999: 5.015 µm, sliding within the
+    static band once μ1 = μs), Δmax is still the fast scheme's bound at 1 ms."""
+    normal = 3000.0
+    base = dict(mass_kg=MASS, normal_force_N=normal, force_N=ratio * LAW.mu_s * normal)
+    law = simulate_rig(RigOptions(time_step_s=reference_step(normal), scheme="reference",
+                                  **base), LAW, duration_s=0.2, record_period_s=1e-3)
+    deviation = {}
+    for dt in (1e-3, 1e-4):
+        fast = simulate_rig(RigOptions(time_step_s=dt, scheme="fast", **base), LAW,
+                            duration_s=0.2, record_period_s=1e-3)
+        assert np.all(fast["phase"] == 0.0), f"slid at {dt:g} s"
+        deviation[dt] = float(np.max(np.abs(fast["x_m"] - law["x_m"])))
+        if dt == 1e-3:
+            assert np.max(np.abs(fast["x_m"])) <= DMAX, np.max(np.abs(fast["x_m"]))
+    print(f"ratio {ratio}: law's final creep {law['x_m'][-1]:.4e} m, fast - law at most "
+          f"{deviation} m")
+    assert deviation[1e-3] <= 0.05 * DMAX, deviation
+    assert deviation[1e-4] < deviation[1e-3], deviation
+
+
+def karnopp_cycle(m, k, normal, mu_d, belt_speed, x_breakaway, v_breakaway):
+    """Period and peak-to-peak excursion of the stick-slip cycle of a block (mass m) on a
+    spring k to a fixed anchor, on a belt at speed V, with kinetic friction μd N while it slips
+    and sticking (moving with the belt) otherwise: slip starts at x_b with velocity v_b (the
+    Coulomb limit: x_b = μs N / k, v_b = V). The slip is the harmonic arc about
+    x_d = μd N / k, X = x - x_d, Y = ẋ/ω, ω = sqrt(k/m), radius A = |(X_b, Y_b)|, turned
+    clockwise from (X_b, Y_b) until ẋ = V again, at Y = V/ω, X < 0; the stick carries the block
+    back to x_b at speed V."""
+    omega = math.sqrt(k / m)
+    x_d = mu_d * normal / k
+    xb, yb = x_breakaway - x_d, v_breakaway / omega
+    radius = math.hypot(xb, yb)
+    y_end = belt_speed / omega
+    x_end = -math.sqrt(radius ** 2 - y_end ** 2)
+    swept = math.atan2(yb, xb) - math.atan2(y_end, x_end) + 2 * math.pi
+    slip_s = swept / omega
+    stick_s = (x_breakaway - (x_d + x_end)) / belt_speed
+    return slip_s + stick_s, 2 * radius
+
+
+@pytest.mark.slow
+def test_reference_reproduces_the_stick_slip_cycle_on_a_belt():
+    """The explicit scheme (the law as stated) on a block on a spring over a belt at 0.1 m/s
+    (μs = 0.4, μd = 0.3, N = 300 N, k = 6 kN/m, 30 kg: a 10 mm stick-slip cycle of ~0.46 s)
+    reproduces the closed-form cycle (``karnopp_cycle``) within 1 % in period and amplitude.
+
+    The law's regularisation shifts the Coulomb closed form in one place: the block does not
+    break away at x_s = μs N / k with the belt's speed but once its relative velocity leaves
+    the static band, |v| > Δv, later by at most τ* = sqrt(2 m Δv / (k V)) (the spring's excess
+    k V t over μs N accelerating the block out of the band; 3.2 ms here), so at x_b ≤ x_s +
+    V τ* with velocity V - Δv. The creep (≤ Δmax = 5 µm against a 10 mm cycle) and the Stribeck
+    band (μs to μd over Δv..1.5Δv, left within ~1e-4 s) shift it by < 0.1 %. The test reads the
+    breakaway state from the run, checks it against that bound, and compares the cycle with the
+    closed form from it; the Coulomb limit (x_b = x_s) is printed beside (measured: period
+    +0.26 %, amplitude +1.1 %)."""
+    law = StrutFrictionParameters(mu_s=0.4, mu_d=0.3)
+    m, normal, k, speed = MASS, 300.0, 6000.0, 0.1
+    dt = 0.5 * 2 * m * law.dv_translation_mps / (1.5 * law.mu_s * normal)  # half the limit
+    h = simulate_rig(RigOptions(mass_kg=m, normal_force_N=normal, spring_Npm=k,
+                                belt_speed_mps=speed, time_step_s=dt, scheme="reference"),
+                     law, duration_s=2.0, record_period_s=dt)
+    t, x, phase = h["t"], h["x_m"], h["phase"]
+    onsets = np.flatnonzero((phase[1:] > 0) & (phase[:-1] == 0)) + 1
+    assert onsets.size >= 4, "expected at least 4 slip onsets in 2 s"
+    periods = np.diff(t[onsets])[1:]  # the first cycle starts from rest: skip it
+    last = slice(onsets[-2], onsets[-1])
+    amplitude = float(np.max(x[last]) - np.min(x[last]))
+    x_s = law.mu_s * normal / k
+    tau = math.sqrt(2 * m * law.dv_translation_mps / (k * speed))
+    x_b = float(x[onsets[-2]])
+    assert x_s <= x_b <= x_s + speed * tau + speed * dt, (x_b, x_s, speed * tau)
+    period, p2p = karnopp_cycle(m, k, normal, law.mu_d, speed, x_b,
+                                speed - law.dv_translation_mps)
+    coulomb = karnopp_cycle(m, k, normal, law.mu_d, speed, x_s, speed)
+    print(f"period {np.mean(periods):.6f} s, amplitude {amplitude:.6e} m; closed form from the "
+          f"breakaway at x_s + {x_b - x_s:.3e} m: {period:.6f} s, {p2p:.6e} m; Coulomb limit "
+          f"{coulomb[0]:.6f} s, {coulomb[1]:.6e} m")
+    assert_allclose(periods, period, rtol=0.01)
+    assert_allclose(amplitude, p2p, rtol=0.01)

@@ -39,7 +39,8 @@ def run_from_texts(texts, where="run"):
                    frozen_sap_steps=record["frozen_sap_steps"],
                    first_frozen_sap_step_s=record["first_frozen_sap_step_s"],
                    steps=record["steps"], final=final, diagram_dot=texts["diagram.dot"],
-                   replay_html=texts.get("replay.html"))
+                   replay_html=texts.get("replay.html"),
+                   cpu_s=record.get("cpu_s", float("nan")))
     except SceneError as e:
         raise OutputError(str(e)) from None
     except (ValueError, KeyError, TypeError, IndexError) as e:

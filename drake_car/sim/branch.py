@@ -62,7 +62,7 @@ def simulate_family(scenes: list, *, progress=False):
     first.advance_to(t_branch)
     saved = first.root.Clone()
     prefix_stats, prefix_last_v = copy.copy(first.monitor.stats), first.monitor.last_velocities
-    prefix_wall = first.wall_s
+    prefix_wall, prefix_cpu = first.wall_s, first.cpu_s
     first.advance_to(scenes[0].end_time_s)
     runs = [first.finish()]
     for scene in scenes[1:]:
@@ -75,7 +75,7 @@ def simulate_family(scenes: list, *, progress=False):
         # keep it once (sim.simulate.logged_history), the every-step log is not a new step.
         runner.built.velocity_logger.FindMutableLog(runner.root).Clear()
         runner.monitor.resume(prefix_stats, prefix_last_v)
-        runner.wall_s = prefix_wall
+        runner.wall_s, runner.cpu_s = prefix_wall, prefix_cpu
         runner.advance_to(scene.end_time_s)
         runs.append(runner.finish())
     return runs

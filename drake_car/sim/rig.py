@@ -24,6 +24,11 @@ from drake_car.systems.strut_friction import StrutFriction
 
 GRAVITY_MPS2 = 9.81
 MAX_NORMAL_FORCE_N = 1e6
+# The belt's speed servo (SAP PD, implicit, on the 100 kg belt): stiff enough that the belt's
+# lag under a friction load F, F/p, and its speed dip under a load change ΔF, ~ΔF/d, are
+# far below the friction's own scales (Δmax, Δv): 120 N gives 0.12 µm and 1e-6 m/s.
+BELT_SERVO_P = 1e9
+BELT_SERVO_D = 1e8
 
 
 @dataclasses.dataclass
@@ -163,7 +168,7 @@ def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None
         belt_joint = plant.AddJoint(PrismaticJoint(
             "belt_slide", plant.world_frame(), belt.body_frame(), axis))
         servo = plant.AddJointActuator("belt_servo", belt_joint)
-        servo.set_controller_gains(PdControllerGains(p=1e6, d=1e5))
+        servo.set_controller_gains(PdControllerGains(p=BELT_SERVO_P, d=BELT_SERVO_D))
     else:
         plant.WeldFrames(plant.world_frame(), belt.body_frame(), RigidTransform())
     if options.rotational:

@@ -3,10 +3,11 @@ state the scene asks for, runs under the divergence monitor with an optional pro
 and returns the logged history with the scene that ran, the Diagram's picture (Graphviz) and
 the replay page when the scene asks for one."""
 
-import logging
 import contextlib
 import dataclasses
 import functools
+import logging
+import math
 import signal
 import sys
 import time
@@ -49,6 +50,7 @@ class Run:
     final: dict
     diagram_dot: str
     replay_html: str | None = None
+    cpu_s: float = math.nan  # CPU seconds of the simulation loop (this process, all threads)
 
     def __getstate__(self):
         # Drake's configs do not pickle: a Run travels (to and from sweep workers) with its
@@ -78,7 +80,8 @@ class Run:
     def record(self):
         """What a run says about itself (JSON-ready)."""
         return {"scene": self.scene.name, "scene_hash": self.scene_hash,
-                "wall_s": self.wall_s, "simulated_s": float(self.history["t"][-1]),
+                "wall_s": self.wall_s, "cpu_s": self.cpu_s,
+                "simulated_s": float(self.history["t"][-1]),
                 "real_time_factor": float(self.history["t"][-1]) / max(self.wall_s, 1e-9),
                 "steps": self.steps, "frozen_sap_steps": self.frozen_sap_steps,
                 "first_frozen_sap_step_s": self.first_frozen_sap_step_s,
@@ -140,6 +143,7 @@ class Runner:
                                    scene.simulator.airborne_limit_s))
         self.progress = progress
         self.wall_s = 0.0
+        self.cpu_s = 0.0
 
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
@@ -156,7 +160,7 @@ class Runner:
         first = int(np.floor(now / period + 1e-9)) + 1
         last = max(first, int(np.ceil(end / period - 1e-9)))
         bar = _progress_bar(self.scene, self.scene.end_time_s, now) if self.progress else None
-        began = time.perf_counter()
+        began, cpu_began = time.perf_counter(), time.process_time()
         try:
             with _deferred_signals() as caught:
                 for k in range(first, last + 1):
@@ -171,6 +175,7 @@ class Runner:
                         bar.update(target - bar.n)
         finally:
             self.wall_s += time.perf_counter() - began
+            self.cpu_s += time.process_time() - cpu_began
             if bar is not None:
                 bar.close()
 
@@ -184,7 +189,8 @@ class Runner:
         return Run(scene=scene, history=history, wall_s=self.wall_s,
                    frozen_sap_steps=stats.frozen_steps,
                    first_frozen_sap_step_s=stats.first_frozen_time_s, steps=stats.steps,
-                   final=final_state(built, root), diagram_dot=dot, replay_html=html)
+                   final=final_state(built, root), diagram_dot=dot, replay_html=html,
+                   cpu_s=self.cpu_s)
 
 
 @contextlib.contextmanager

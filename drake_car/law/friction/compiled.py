@@ -15,7 +15,7 @@ import math
 import numba
 import numpy as np
 
-from drake_car.law.friction.frd import NORMAL_FORCE_FORMS, shape_max_slope
+from drake_car.law.friction.frd import NORMAL_FORCE_FORMS
 
 # The friction phases, as ``frd_friction``'s (a test checks they are equal). Defined here, not
 # imported: numba freezes the globals a compiled function reads into its on-disk cache, which
@@ -31,6 +31,9 @@ S = enum.IntEnum("S", {name: i for i, name in enumerate((
     "OFFSET_0", "OFFSET_1", "AXIS_X", "AXIS_Y", "AXIS_Z", "PRELOAD_FORCE", "MU_S", "FORM"))})
 # Floor on PD gains: Drake removes a controller whose gains are both zero.
 MIN_GAIN = 1e-9
+# Below this fraction of Δv the fast scheme's damping floor blends to the steeper branch (the
+# velocity may change sign within the step); ``systems.strut_friction`` says why.
+SLOW_FRACTION = 0.1
 
 
 def pack_pair(law, strut_law, *, rotation, strut, q_index, v_index, rod_radius):
@@ -43,9 +46,9 @@ def pack_pair(law, strut_law, *, rotation, strut, q_index, v_index, rod_radius):
     row[P.CREEP_CUBIC] = law.creep_shape == "cubic"
     row[P.ROTATION], row[P.STRUT], row[P.Q_INDEX], row[P.V_INDEX] = (
         rotation, strut, q_index, v_index)
-    # The fast scheme's gains per unit of the pair's N-scale.
-    row[P.KD_UNIT] = shape_max_slope(law.beta_shape) / law.dv
-    row[P.KP_UNIT] = shape_max_slope(law.creep_shape) * law.mu_s / law.dmax
+    # The fast scheme's gains per unit of the pair's N-scale and of the law's slopes.
+    row[P.KD_UNIT] = 1.0 / law.dv
+    row[P.KP_UNIT] = law.mu_s / law.dmax
     row[P.ROD_RADIUS], row[P.PRELOAD_MOMENT], row[P.STRUT_MU_S] = (
         rod_radius, strut_law.preload_moment_Nm, strut_law.mu_s)
     return row
@@ -84,6 +87,14 @@ def shape(x, cubic):
     x = 0.0 if 0.0 > x else x  # Python's min(max(x, 0.0), 1.0)
     x = 1.0 if 1.0 < x else x
     return x * x * (3.0 - 2.0 * x) if cubic else x
+
+
+@_jit
+def shape_slope(x, cubic):
+    """``frd_friction.shape_slope``."""
+    if not (0.0 <= x < 1.0):
+        return 0.0
+    return 6.0 * x * (1.0 - x) if cubic else 1.0
 
 
 @_jit
@@ -203,17 +214,29 @@ def friction_step(x, reactions, initial, fast, pairs, struts, memory, actuation,
         actuation[i] = force
         if not fast:
             continue
-        # The fast scheme (systems.strut_friction: the gains bound the law's slopes).
-        gain = pair[P.KD_UNIT] * (mu_s + mu1) * scale
-        kd[i] = MIN_GAIN if MIN_GAIN > gain else gain
+        # The fast scheme (systems.strut_friction: the law's tangent, its damping slope
+        # floored by the secant of the branch the velocity is on).
+        beta_cubic = pair[P.BETA_CUBIC] != 0.0
         desired[i], desired[n + i] = q, 0.0
         if phase[i] == STATIC:
             desired[n + i] = v
-            gain = pair[P.KP_UNIT] * scale
+            x_v = abs(v) / dv
+            with_creep = v == 0.0 or creep[i] == 0.0 or (v > 0.0) == (creep[i] > 0.0)
+            branch = mu_s - mu1 if with_creep else mu_s + mu1
+            weight = 1.0 - x_v / SLOW_FRACTION
+            weight = 0.0 if 0.0 > weight else weight
+            secant = branch + (mu_s + mu1 - branch) * weight
+            tangent = shape_slope(x_v, beta_cubic) * branch
+            gain = (tangent if tangent > secant else secant) * pair[P.KD_UNIT] * scale
+            kd[i] = MIN_GAIN if MIN_GAIN > gain else gain
+            gain = ((1.0 - beta) * shape_slope(abs(creep[i]) / dmax, pair[P.CREEP_CUBIC] != 0.0)
+                    * pair[P.KP_UNIT] * scale)
             kp[i] = MIN_GAIN if MIN_GAIN > gain else gain
             limit = mu_s * scale
         else:
             actuation[i] = 0.0
+            gain = (1.5 if beta_cubic else 1.0) * mu_s * pair[P.KD_UNIT] * scale
+            kd[i] = MIN_GAIN if MIN_GAIN > gain else gain
             kp[i] = MIN_GAIN
             limit = mu_kinetic(v, mu_s, pair[P.MU_D], dv) * scale
         effort[i] = MIN_GAIN if MIN_GAIN > limit else limit

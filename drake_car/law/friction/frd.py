@@ -77,14 +77,22 @@ def shape(x, kind):
 MAX_NORMAL_FORCE_N = 1e8
 
 
+def shape_slope(x, kind):
+    """ds/dx of ``shape`` at x: 6x(1 - x) for the cubic STEP, 1 for linear, on [0, 1); 0 outside
+    (where the shape is clipped)."""
+    if not 0.0 <= x < 1.0:
+        return 0.0
+    return 6.0 * x * (1.0 - x) if kind == "cubic" else 1.0
+
+
 def shape_max_slope(kind):
     """max ds/dx of the shape: 1.5 for the cubic STEP, 1 for linear."""
     return 1.5 if kind == "cubic" else 1.0
 
 
 def explicit_time_step_limit_s(mass, normal, law):
-    """The law's own stability bound: the largest stable step of the ``reference`` (explicit) scheme on a pair of effective mass
-    (or inertia) ``mass`` under the normal force ``normal`` (for a rotation pair: its moment
+    """The law's own stability bound: the largest stable step of the ``reference`` (explicit)
+    scheme on a pair of effective mass (or inertia) ``mass`` under the normal force ``normal`` (for a rotation pair: its moment
     scale N r), ``law`` a ``FrictionPairLaw``: the β term of eq. (1) is a damper whose largest
     slope is s'·μs·N/Δv (s' = 1.5 for the cubic STEP), and an explicit damper c on a mass m is
     stable for dt < 2m/c. Infinite when μs = 0."""
