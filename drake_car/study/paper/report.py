@@ -14,7 +14,7 @@ import math
 
 from drake_car.study.paper.measures import claim_measures, verdict
 from drake_car.study.paper.claims import (
-    DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, place_values, run_of)
+    DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, run_of)
 from drake_car.study.paper.previous_car import previous_car_section
 
 
@@ -195,11 +195,11 @@ def _paper_drive(s):
              "drive (the car then turns less and its struts see other loads):", "",
              "| # | open differential | the paper's drive | deciding number with the paper's "
              "drive |", "|---|---|---|---|"]
-    for i, (claim, verdict, number) in enumerate(zip(s["claims"], locked["verdicts"],
-                                                    locked["numbers"]), start=1):
+    for i, (claim, locked_verdict, number) in enumerate(zip(s["claims"], locked["verdicts"],
+                                                           locked["numbers"]), start=1):
         ours = "yes" if claim["reproduced"] else "no"
-        theirs = "yes" if verdict else "no"
-        if verdict != claim["reproduced"]:
+        theirs = "yes" if locked_verdict else "no"
+        if locked_verdict != claim["reproduced"]:
             theirs = f"**{theirs}** (changes)"
         lines.append(_row(i, ours, theirs, number))
     return lines + [""]
