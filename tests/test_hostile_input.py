@@ -406,3 +406,26 @@ def test_a_large_grid_is_announced_and_goes_on_when_asked(monkeypatch, capsys):
     assert len(sweep_command.build_scenes("scenes/paper_study.yaml:a_1", "", grid,
                                           large=True)) == 4
     assert "--grid: 4 scenes (2 x 2): about" in capsys.readouterr().err
+
+
+def test_a_long_road_is_announced_with_its_cost():
+    """A !SampledProfile past ANNOUNCE_ROAD_SAMPLES (below the limit that refuses it) is
+    announced, naming the key and the estimated cost, before any work."""
+    import logging
+    from drake_car.scene.guard import ANNOUNCE_ROAD_SAMPLES
+    from drake_car.scene.load import load_scene
+    n = ANNOUNCE_ROAD_SAMPLES + 1
+    x = ", ".join(f"{0.01 * i:g}" for i in range(n))
+    z = ", ".join("0" for _ in range(n))
+    records = []
+    handler = logging.Handler(logging.WARNING)
+    handler.emit = records.append
+    logger = logging.getLogger("drake_car")
+    logger.addHandler(handler)
+    try:
+        load_scene(ROOT / "scenes" / "car.yaml", child="bump",
+                   scene_text=f"road: !SampledProfile {{x_m: [{x}], z_m: [{z}]}}")
+    finally:
+        logger.removeHandler(handler)
+    assert any(f"road.x_m has {n} samples" in r.getMessage() and "GB" in r.getMessage()
+               for r in records), [r.getMessage()[-200:] for r in records]

@@ -5,6 +5,7 @@ included) and entry names that are not plain names (they become folder names). P
 the document as a graph (an alias is a shared node, not a copy): the expanded size is counted
 on it, memoised per node, in time linear in the document."""
 
+import logging
 import re
 from pathlib import Path
 
@@ -122,3 +123,17 @@ def check_entry_name(name, where):
         raise YamlInputError(f"{where}: scene entry name {excerpt(name)} is not a plain name "
                              "(letters, digits, _ . + = -; not starting with . or -; at most "
                              "100 characters); it names folders and files")
+
+
+# A sampled road longer than this is announced with its cost (refused past MAX_ROAD_SAMPLES).
+ANNOUNCE_ROAD_SAMPLES = 10_000
+
+
+def announce_large_road(scene, where):
+    """A sampled road past ANNOUNCE_ROAD_SAMPLES (law.road.profiles refuses past its limit)
+    is announced with what it will cost before any work."""
+    samples = len(getattr(scene.road, "x_m", ()))
+    if samples > ANNOUNCE_ROAD_SAMPLES:
+        logging.getLogger(__name__).warning("%s: road.x_m has %d samples: about %.0f s and %.2f GB to load and settle "
+                    "[EST]", where, samples, samples * ROAD_SAMPLE_S,
+                    samples * ROAD_SAMPLE_BYTES / 1e9)

@@ -20,7 +20,8 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 from drake_car.data import resource
 from drake_car.law.checks import ParameterError, checked, excerpt, one_line
 from drake_car.scene.guard import (
-    PLAIN_NAME, YamlInputError, check_entry_name, check_yaml, read_yaml_file)
+    PLAIN_NAME, YamlInputError, announce_large_road, check_entry_name, check_yaml,
+    read_yaml_file)
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene, default_plant_config
 
@@ -172,7 +173,9 @@ def check_scene(scene: Scene, where="scene") -> Scene:
         _check_cross(scene)
     except ParameterError as e:
         raise SceneError(f"{where}: {e}") from None
+    announce_large_road(scene, where)
     return scene
+
 
 
 def hands_off_release_s(scene: Scene):
