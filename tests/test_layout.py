@@ -95,7 +95,7 @@ def test_no_import_cycles():
 SCRIPTS = sorted(p for folder in ("experiments", "benchmarks") for p in (ROOT / folder).glob("*.py"))
 # Sub-rooms: each room's folders, as the README's table names them.
 SUB_ROOMS = {
-    "law": {"friction", "tyre", "road", "numerics"},
+    "law": {"friction", "tyre", "road", "numerics", "comfort"},
     "study": {"paper", "design", "handling", "rig"},
 }
 # Names that say a module's role inside its sub-room (each sub-room may have its own).
