@@ -37,15 +37,36 @@ def test_normal_force_is_eq4_of_the_side_load(loop):
 
 def test_sliding_and_breakaway_forces(loop):
     """Sliding at μd·N: the sliding samples' friction equals μd·N(q) to the Stribeck band's
-    absence (exact above 1.5 Δv); the break-away load is at least μs·N and at most one step's
-    load rise above it plus the inertia of the knuckle starting to move (the apparent μs)."""
+    absence (exact above 1.5 Δv); the break-away load is at least μs·N and at most
+    ``breakaway_bound_mu`` (the rig's stiffness, the knuckle's mass and the step)."""
     options, law, h = loop
     stats = loop_statistics(h["stroke_m"], h["load_cell_N"], h["normal_N"],
                             sample_period_s=options.time_step_s)
     assert stats.half_cycles >= 3
     assert_allclose(stats.mu_d, law.mu_d, rtol=2e-3, err_msg="sliding μ")
     for c in stats.cycles:
-        assert law.mu_s <= c.breakaway_mu <= 1.15 * law.mu_s, c
+        bound = breakaway_bound_mu(options, law, h["normal_N"][c.start])
+        assert law.mu_s <= c.breakaway_mu <= bound, (c, bound)
+
+
+def breakaway_bound_mu(options, law, normal_N):
+    """The largest apparent μs the rig can show for a true μs, from its load path (stiffness
+    k), the knuckle's mass m and the step dt. After a reversal the knuckle sticks while the
+    actuator x_a = A cos(ω τ) winds the load cell up from -μd·N to μs·N, a travel
+    Δx = (μs + μd) N / k, reached at the actuator speed v = A ω sin(acos(1 - Δx / A)). Then:
+    (1) the slip is seen at the first step above μs·N: at most one step's rise k v dt more;
+    (2) after the break-away the friction falls to μd·N and the knuckle, a mass on the load
+    cell's spring, starts from rest with the spring force (μs - μd)·N above friction, rising at
+    k v: its peak above μd·N is sqrt(((μs - μd) N)^2 + k m v^2) (undamped: the load path's
+    damper only lowers it). Apparent μs <= μs + [that peak - (μs - μd) N + k v dt] / N
+    (1.17-1.18 μs for this loop; the rig shows 1.07-1.11 μs)."""
+    k, m, dt = options.rig_stiffness_Npm, CAR.mass.front_knuckle_kg, options.time_step_s
+    amplitude, omega = options.stroke_amplitude_m, 2 * np.pi * options.stroke_frequency_hz
+    wind_up = (law.mu_s + law.mu_d) * normal_N / k
+    speed = amplitude * omega * np.sin(np.arccos(1.0 - wind_up / amplitude))
+    excess = (law.mu_s - law.mu_d) * normal_N
+    peak = np.sqrt(excess ** 2 + k * m * speed ** 2)
+    return law.mu_s + (peak - excess + k * speed * dt) / normal_N
 
 
 def test_the_lubricated_strut_is_viscous():
@@ -73,8 +94,15 @@ def test_bad_options_are_refused():
 def test_fit_recovers_mu_s_of_a_synthetic_loop():
     """The done-when: a loop made by the rig with known μs, μd plus noise; the fit recovers μs
     within its stated 95 % confidence and μd within its own."""
-    *_, fit = synthetic_fit(CAR)
+    options, h, *_, fit = synthetic_fit(CAR)
     assert abs(fit.mu_s - SYNTHETIC_LAW[0]) <= fit.mu_s_ci95, fit
-    assert abs(fit.mu_d - SYNTHETIC_LAW[1]) <= max(fit.mu_d_ci95, 1e-3), fit
+    # μd's estimator (the median of force / N over the middle half of each stroke) carries a
+    # bias the noise's confidence does not: the knuckle's inertia in the load cell's reading,
+    # m |q̈| <= m ω² A / 2 there (|x - centre| <= A / 2 while sliding); over the smallest N of
+    # the loop that is 1.6e-3 in μ here. (The load path's damper adds c/k · dF/dt, ~1e-4.)
+    omega = 2 * np.pi * options.stroke_frequency_hz
+    inertia = (CAR.mass.front_knuckle_kg * omega ** 2 * options.stroke_amplitude_m / 2
+               / np.min(h["normal_N"]))
+    assert abs(fit.mu_d - SYNTHETIC_LAW[1]) <= fit.mu_d_ci95 + inertia, (fit, inertia)
     assert fit.mu_s_ci95 < 0.05, fit  # the confidence says something
     assert not fit.dv_resolved  # 2 µm at 1 kHz resolves 3 mm/s, not Δv = 0.1 mm/s
