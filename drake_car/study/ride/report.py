@@ -1,0 +1,118 @@
+"""The ride study's tables, linearity check and report text (``DIR/report.md`` is written by
+``experiments/ride.py`` from these)."""
+
+import math
+
+import numpy as np
+
+COLUMNS = (("aw_seat_mps2", "a_w seat [m/s²]", 3), ("pitch_acc_rms_radps2", "pitch acc. [rad/s²]", 3),
+           ("roll_acc_rms_radps2", "roll acc. [rad/s²]", 3), ("dlc_front", "DLC front", 4),
+           ("dlc_rear", "DLC rear", 4), ("stick_left", "stick L", 3),
+           ("stick_right", "stick R", 3), ("friction_mean_N", "mean |F_fric| [N]", 0))
+
+
+def _value(row, key, digits):
+    return f"{row[key]:.{digits}f} ± {row['err_' + key]:.1g}"
+
+
+def outcome_table(rows):
+    """A markdown table: one line per run (cell, μs), each outcome ± its numerical error."""
+    head = "| class | km/h | strut | μs | " + " | ".join(c[1] for c in COLUMNS) + " |"
+    lines = [head, "|" + "---|" * (4 + len(COLUMNS))]
+    for r in sorted(rows, key=lambda r: (r["speed_kph"], r["road_class"], r["strut"] != "lubricated",
+                                         r["strut"], r["mu_s"])):
+        cells = [r["road_class"], f"{r['speed_kph']:g}", r["strut"], f"{r['mu_s']:.2f}"]
+        cells += [_value(r, key, digits) for key, _, digits in COLUMNS]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def cells_of(rows):
+    """{(class, speed, strut): [rows by μs, the lubricated run first]} (the lubricated run is
+    every strut's μs = 0)."""
+    cells = {}
+    for r in rows:
+        if r["strut"] == "lubricated":
+            continue
+        cells.setdefault((r["road_class"], r["speed_kph"], r["strut"]), []).append(r)
+    out = {}
+    for key, sel in cells.items():
+        lubricated = [r for r in rows if r["strut"] == "lubricated"
+                      and (r["road_class"], r["speed_kph"]) == key[:2]]
+        out[key] = lubricated + sorted(sel, key=lambda r: r["mu_s"])
+    return out
+
+
+def linearity(sel, x_key, y_key="aw_seat_mps2"):
+    """A straight line y = a + b x through the rows ``sel``: (a, b, R², the largest deviation
+    from the line over the total change of y, the largest numerical error of y)."""
+    x = np.array([r[x_key] for r in sel], dtype=float)
+    y = np.array([r[y_key] for r in sel], dtype=float)
+    b, a = np.polyfit(x, y, 1)
+    fitted = a + b * x
+    total = np.ptp(y)
+    ss = float(np.sum((y - y.mean()) ** 2))
+    r2 = 1.0 - float(np.sum((y - fitted) ** 2)) / ss if ss > 0 else math.nan
+    deviation = float(np.max(np.abs(y - fitted)) / total) if total > 0 else math.nan
+    return a, b, r2, deviation, max(r[f"err_{y_key}"] for r in sel)
+
+
+def cost_table(rows):
+    """Per cell: the lubricated car's values and what each μs adds (relative change), with
+    the linear fits of a_w against μs and against the mean friction force."""
+    lines = ["| class | km/h | strut | a_w lubricated [m/s²] | Δa_w at μs 0.1 / 0.2 / 0.3 / 0.4 "
+             "| ΔDLC front at μs 0.1 / 0.2 / 0.3 / 0.4 | line a_w(μs): slope [m/s² per 0.1], R², "
+             "max dev. | line a_w(mean F_fric): slope [m/s² per 100 N], R² |",
+             "|---|---|---|---|---|---|---|---|"]
+    for (road_class, speed, strut), sel in sorted(cells_of(rows).items()):
+        base = sel[0]
+        if base["strut"] != "lubricated":
+            continue
+        dry = sel[1:]
+        da = " / ".join(f"{100 * (r['aw_seat_mps2'] / base['aw_seat_mps2'] - 1):+.0f} %" for r in dry)
+        dd = " / ".join(f"{100 * (r['dlc_front'] / base['dlc_front'] - 1):+.0f} %" for r in dry)
+        _, b, r2, dev, _ = linearity(sel, "mu_s")
+        if len(dry) >= 2:
+            _, bf, r2f, _, _ = linearity(dry, "friction_mean_N")
+            force = f"{100 * bf:.3f}, {r2f:.3f}"
+        else:
+            force = "-"
+        lines.append(f"| {road_class} | {speed:g} | {strut} | {base['aw_seat_mps2']:.3f} | {da} | "
+                     f"{dd} | {0.1 * b:.3f}, {r2:.3f}, {100 * dev:.0f} % | {force} |")
+    return "\n".join(lines)
+
+
+def linear_verdict(sel):
+    """Whether a_w grows about linearly with the mean friction force over the dry runs (and
+    the lubricated run at zero force): R² >= 0.95 and no point off the line by more than 10 %
+    of the total change, both beyond the runs' numerical errors."""
+    a, b, r2, dev, err = linearity(sel, "friction_mean_N")
+    linear = r2 >= 0.95 and dev <= 0.10
+    return linear, b, r2, dev, err
+
+
+def literature_text(rows):
+    """The lubricated car's a_w against the literature (the sources as given; [EST] where a
+    value could not be checked here)."""
+    lubricated = sorted((r for r in rows if r["strut"] == "lubricated"),
+                        key=lambda r: (r["speed_kph"], r["road_class"]))
+    values = ", ".join(f"class {r['road_class']} at {r['speed_kph']:g} km/h "
+                       f"{r['aw_seat_mps2']:.2f} m/s²" for r in lubricated)
+    return (
+        f"The lubricated car's Wk-weighted RMS vertical acceleration at the seat point: {values}."
+        "\n\nAgainst what is known of passenger cars:\n\n"
+        "- ISO 2631-1:1997, Annex C (C.2.3), the likely reactions to a_w in public transport: "
+        "< 0.315 m/s² not uncomfortable; 0.315-0.63 a little uncomfortable; 0.5-1 fairly "
+        "uncomfortable; 0.8-1.6 uncomfortable; 1.25-2.5 very uncomfortable; > 2 extremely "
+        "uncomfortable.\n"
+        "- Passenger cars measured on public roads: seat-surface vertical a_w of the order of "
+        "0.2-0.6 m/s² (Paddan & Griffin, \"Evaluation of whole-body vibration in vehicles\", "
+        "J. Sound Vib. 253(1), 2002, 195-213, cars among 100 vehicles) [EST: the range is "
+        "recalled, not checked against the paper here]. Their roads were ordinary roads, "
+        "mostly ISO 8608 class A-B.\n"
+        "- The model's point is the floor under the seat (no cushion): a seat's cushion "
+        "transmits about 1 near 4 Hz and amplifies somewhat there (a SEAT value of ~0.8-1.1 "
+        "for car seats [EST]), so the floor value is comparable to the seat-surface value "
+        "within some tens of per cent; the model's tyres touch the road at a point (no "
+        "enveloping of the contact patch), which overstates the excitation of wavelengths "
+        "shorter than ~0.5 m, i.e. above ~8 Hz at 60 km/h.")
