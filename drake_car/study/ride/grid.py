@@ -15,6 +15,7 @@ measured); ``paper`` removes the viscous damping (Harlecki & Kubas' dry strut, D
 """
 
 import dataclasses
+import functools
 import typing
 
 from pydrake.multibody.plant import MultibodyPlantConfig
@@ -56,6 +57,12 @@ def speed_up_s(speed_kph):
     return speed_kph / SPEED_UP_KPH_PER_S
 
 
+@functools.lru_cache(maxsize=16)
+def _road(road_class, seed, length_m, track_m):
+    """The road of a class (one object shared by its runs: a scene's road is not changed)."""
+    return road_profile(road_class, seed=seed, length_m=length_m, track_m=track_m)
+
+
 def scene_name(road_class, speed_kph, mu_s, strut, half):
     name = f"{road_class}_{speed_kph:g}kph_mu{mu_s:.2f}"
     if mu_s > 0:
@@ -71,8 +78,7 @@ def ride_scene(study: RideStudy, road_class, speed_kph, mu_s, *, half=False, bas
         speed_up_s=speed_up_s(speed_kph), straight_s=0.0,
         steer_s=study.settle_window_s + study.window_s, calm_s=0.0)
     manoeuvre = dataclasses.replace(base.manoeuvre, timeline=timeline)
-    road = road_profile(road_class, seed=study.seed, length_m=study.road_length_m,
-                        track_m=study.track_m)
+    road = _road(road_class, study.seed, study.road_length_m, study.track_m)
     car, friction = base.car, None
     if mu_s > 0:
         law = dataclasses.replace(StrutFrictionParameters(), mu_s=float(mu_s),
