@@ -14,6 +14,7 @@ DIR/report.md."""
 
 import argparse
 import csv
+import dataclasses
 import sys
 import time
 from pathlib import Path
@@ -25,7 +26,16 @@ from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_s
 from drake_car.study.ride.report import (
     cells_of, cost_table, linear_verdict, literature_text, outcome_table)
 from drake_car.sweep.runner import run_sweep
-from drake_car.sweep.store import load_run
+from drake_car.results.files import read_csv
+from drake_car.scene.load import scene_hash
+from drake_car.sweep.store import read_status
+
+
+@dataclasses.dataclass
+class FinishedRun:
+    scene: object
+    history: dict
+    wall_s: float
 
 
 def _list(text, kind, name):
@@ -65,12 +75,7 @@ def main(argv=None):
         result = run_sweep(scenes, args.out, workers=args.workers)
         print(f"sweep: {result['ok']} ok, {result['failed']} failed, {result['reused']} reused, "
               f"{result['wall_s']:.0f} s")
-    runs, hashes = {}, run_hashes(scenes)
-    for name, key in hashes.items():
-        if (args.out / "runs" / key / "status.json").is_file():
-            record, run = load_run(args.out, key)
-            if run is not None:
-                runs[name] = run
+    runs = finished_runs(args.out, scenes)
     study = studies[0]
     rows = collect(runs, lambda scene: analysed_from_s(scene, study))
     if not rows:
@@ -81,13 +86,22 @@ def main(argv=None):
     return 0
 
 
-def run_hashes(scenes):
-    from drake_car.scene.load import scene_hash
-    return {name: scene_hash(scene) for name, scene in scenes.items()}
+def finished_runs(out, scenes):
+    """name -> (scene, history, wall_s) of the scenes with an ok run in ``out``: the history
+    read from its CSV (bit for bit the run's), the scene the grid's own (the same content
+    hash), which spares parsing each run's pickled scene."""
+    runs = {}
+    for name, scene in scenes.items():
+        folder = out / "runs" / scene_hash(scene)
+        record = read_status(folder)
+        if record is not None and record["status"] == "ok":
+            runs[name] = FinishedRun(scene, read_csv(folder / "history.csv"), record["wall_s"])
+    return runs
 
 
 def write_outputs(out, rows, runs, study, scenes, wall_s):
-    fields = ["name", "road_class", "speed_kph", "strut", "mu_s", "wall_s", "wall_half_s",
+    fields = ["name", "road_class", "speed_kph", "strut", "mu_s", "rig_friction_N", "wall_s",
+              "wall_half_s",
               *OUTCOMES, *[f"err_{k}" for k in OUTCOMES]]
     with open(out / "outcomes.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fields)
@@ -115,8 +129,8 @@ def write_outputs(out, rows, runs, study, scenes, wall_s):
             continue
         linear, b, r2, dev, err = linear_verdict(sel)
         verdicts.append(f"- class {road_class}, {speed:g} km/h, {strut} strut: "
-                        f"{'about linear' if linear else 'not linear'} (a_w against the mean "
-                        f"friction force: slope {100 * b:.3f} m/s² per 100 N, R² {r2:.3f}, "
+                        f"{'about linear' if linear else 'not linear'} (a_w against the rig "
+                        f"friction force μd·N̄: slope {100 * b:.3f} m/s² per 100 N, R² {r2:.3f}, "
                         f"largest deviation from the line {100 * dev:.0f} % of the change; "
                         f"numerical error of a_w ≤ {err:.1g} m/s²)")
     text = [

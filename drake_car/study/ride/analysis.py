@@ -12,7 +12,12 @@ Over the analysed window (constant speed, after the speed-up's transients):
 - ``stick_left``, ``stick_right``: the share of samples in which the rod's translation pair is
   in the static phase (|v| <= Δv; 0 without friction);
 - ``friction_mean_N``: the mean magnitude of the rods' axial friction force (the law's, both
-  struts; 0 without friction): the "friction force" a rig measures.
+  struts; 0 without friction), in the drive (it includes the stuck spells' lower force);
+- ``normal_mean_N``: the mean eq. 4 normal force N of both rods (0 without friction).
+
+``collect`` adds ``rig_friction_N`` = μd · normal_mean_N: the sliding friction force a strut
+rig would measure at the car's mean side load, the "friction force" of the rig measurements
+(Deubel et al.) the comfort is compared against.
 
 ``errors(coarse, fine)``: per outcome |coarse - fine|, the run against itself at half the step
 (logged at the same instants)."""
@@ -25,7 +30,8 @@ from scipy import signal
 from drake_car.law.comfort.iso2631 import weighted_rms
 
 OUTCOMES = ("aw_seat_mps2", "az_seat_rms_mps2", "roll_acc_rms_radps2", "pitch_acc_rms_radps2",
-            "dlc_front", "dlc_rear", "stick_left", "stick_right", "friction_mean_N")
+            "dlc_front", "dlc_rear", "stick_left", "stick_right", "friction_mean_N",
+            "normal_mean_N")
 WHEELS = ("fl", "fr", "rl", "rr")
 
 
@@ -61,6 +67,9 @@ def outcomes(history, start_s):
     forces = [np.abs(np.asarray(history[f"friction_{side}_translation_friction"])[w])
               for side in ("left", "right") if f"friction_{side}_translation_friction" in history]
     out["friction_mean_N"] = float(np.mean(forces)) if forces else 0.0
+    normals = [np.asarray(history[f"friction_{side}_translation_N"])[w]
+               for side in ("left", "right") if f"friction_{side}_translation_N" in history]
+    out["normal_mean_N"] = float(np.mean(normals)) if normals else 0.0
     return out
 
 
@@ -98,7 +107,9 @@ def collect(runs_by_name, start_of):
         coarse = outcomes(run.history, start_of(scene))
         fine = outcomes(twin.history, start_of(twin.scene))
         parts = name.split("_")
+        mu_d = 0.0 if scene.friction is None else scene.friction.law.mu_d
         rows.append({"name": name, "road_class": parts[0],
+                     "rig_friction_N": mu_d * coarse["normal_mean_N"],
                      "speed_kph": scene.manoeuvre.timeline.speed_kph,
                      "mu_s": 0.0 if scene.friction is None else scene.friction.law.mu_s,
                      "strut": parts[3] if len(parts) > 3 else "lubricated",

@@ -8,7 +8,8 @@ import numpy as np
 COLUMNS = (("aw_seat_mps2", "a_w seat [m/s²]", 3), ("pitch_acc_rms_radps2", "pitch acc. [rad/s²]", 3),
            ("roll_acc_rms_radps2", "roll acc. [rad/s²]", 3), ("dlc_front", "DLC front", 4),
            ("dlc_rear", "DLC rear", 4), ("stick_left", "stick L", 3),
-           ("stick_right", "stick R", 3), ("friction_mean_N", "mean |F_fric| [N]", 0))
+           ("stick_right", "stick R", 3), ("friction_mean_N", "mean |F_fric| [N]", 0),
+           ("normal_mean_N", "mean N [N]", 0))
 
 
 def _value(row, key, digits):
@@ -62,7 +63,7 @@ def cost_table(rows):
     the linear fits of a_w against μs and against the mean friction force."""
     lines = ["| class | km/h | strut | a_w lubricated [m/s²] | Δa_w at μs 0.1 / 0.2 / 0.3 / 0.4 "
              "| ΔDLC front at μs 0.1 / 0.2 / 0.3 / 0.4 | line a_w(μs): slope [m/s² per 0.1], R², "
-             "max dev. | line a_w(mean F_fric): slope [m/s² per 100 N], R² |",
+             "max dev. | line a_w(rig friction μd·N̄): slope [m/s² per 100 N], R² |",
              "|---|---|---|---|---|---|---|---|"]
     for (road_class, speed, strut), sel in sorted(cells_of(rows).items()):
         base = sel[0]
@@ -73,7 +74,7 @@ def cost_table(rows):
         dd = " / ".join(f"{100 * (r['dlc_front'] / base['dlc_front'] - 1):+.0f} %" for r in dry)
         _, b, r2, dev, _ = linearity(sel, "mu_s")
         if len(dry) >= 2:
-            _, bf, r2f, _, _ = linearity(dry, "friction_mean_N")
+            _, bf, r2f, _, _ = linearity(sel, "rig_friction_N")
             force = f"{100 * bf:.3f}, {r2f:.3f}"
         else:
             force = "-"
@@ -83,10 +84,10 @@ def cost_table(rows):
 
 
 def linear_verdict(sel):
-    """Whether a_w grows about linearly with the mean friction force over the dry runs (and
-    the lubricated run at zero force): R² >= 0.95 and no point off the line by more than 10 %
-    of the total change, both beyond the runs' numerical errors."""
-    a, b, r2, dev, err = linearity(sel, "friction_mean_N")
+    """Whether a_w grows about linearly with the strut's friction force as a rig measures it
+    (``rig_friction_N`` = μd·N̄; the lubricated run at 0): R² >= 0.95 and no point off the
+    line by more than 10 % of the total change (the runs' numerical errors are far smaller)."""
+    a, b, r2, dev, err = linearity(sel, "rig_friction_N")
     linear = r2 >= 0.95 and dev <= 0.10
     return linear, b, r2, dev, err
 
