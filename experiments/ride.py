@@ -24,7 +24,7 @@ from drake_car.study.ride.analysis import OUTCOMES, collect, seat_psd
 from drake_car.study.ride.figures import plot_against_mu, plot_psd
 from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
 from drake_car.study.ride.report import (
-    cells_of, cost_table, linear_verdict, literature_text, outcome_table)
+    cells_of, cost_table, linear_verdict, literature_text, outcome_table, summary_text)
 from drake_car.sweep.runner import run_sweep
 from drake_car.results.files import read_csv
 from drake_car.scene.load import scene_hash
@@ -143,6 +143,7 @@ def write_outputs(out, rows, runs, study, scenes, wall_s):
         f"0.57 g, then {study.settle_window_s:g} s settles and {study.window_s:g} s is analysed "
         "at constant speed; logged every 2 ms (Nyquist 250 Hz > Wk's 80 Hz); step 1 ms, twin "
         "at 0.5 ms. μd = 0.75 μs.", "",
+        "## Summary", "", summary_text(rows), "",
         "## What each μs costs", "", cost_table(rows), "",
         "## Is the worsening linear in the friction force?", "", *verdicts, "",
         "## The lubricated car against measured cars", "", literature_text(rows), "",

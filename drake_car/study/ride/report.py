@@ -117,3 +117,30 @@ def literature_text(rows):
         "within some tens of per cent; the model's tyres touch the road at a point (no "
         "enveloping of the contact patch), which overstates the excitation of wavelengths "
         "shorter than ~0.5 m, i.e. above ~8 Hz at 60 km/h.")
+
+
+def summary_text(rows):
+    """The answers in numbers: per strut model and speed, what 0.1 of μs costs in a_w and in
+    the front DLC over the road classes, and how many cells are about linear."""
+    lines = []
+    cells = cells_of(rows)
+    for strut in sorted({k[2] for k in cells}):
+        for speed in sorted({k[1] for k in cells}):
+            sel = {k: v for k, v in cells.items() if k[1] == speed and k[2] == strut
+                   and v[0]["strut"] == "lubricated" and len(v) >= 3}
+            if not sel:
+                continue
+            slopes = [0.1 * linearity(v, "mu_s")[1] for v in sel.values()]
+            worst = {k[0]: (v[-1]["aw_seat_mps2"] / v[0]["aw_seat_mps2"] - 1,
+                            v[-1]["dlc_front"] / v[0]["dlc_front"] - 1,
+                            v[-1]["dlc_rear"] / v[0]["dlc_rear"] - 1, v[-1]["mu_s"])
+                     for k, v in sel.items()}
+            linear = sum(linear_verdict(v)[0] for v in sel.values())
+            parts = "; ".join(f"class {c}: a_w {100 * a:+.0f} %, DLC front {100 * f:+.0f} %, "
+                              f"rear {100 * r:+.0f} % at μs {m:g}"
+                              for c, (a, f, r, m) in sorted(worst.items()))
+            lines.append(f"- {strut} strut, {speed:g} km/h: a_w changes by "
+                         f"{min(slopes):+.3f} to {max(slopes):+.3f} m/s² per 0.1 of μs "
+                         f"(linear fit over μs 0-0.4, the classes' range); {parts}; about "
+                         f"linear in the rig friction force in {linear} of {len(sel)} classes.")
+    return "\n".join(lines)
