@@ -95,8 +95,8 @@ def test_no_import_cycles():
 SCRIPTS = sorted(p for folder in ("experiments", "benchmarks") for p in (ROOT / folder).glob("*.py"))
 # Sub-rooms: each room's folders, as the README's table names them.
 SUB_ROOMS = {
-    "law": {"friction", "tyre", "road", "numerics"},
-    "study": {"paper", "design", "handling"},
+    "law": {"friction", "tyre", "road", "numerics", "comfort"},
+    "study": {"paper", "design", "handling", "rig", "ride"},
 }
 # Names that say a module's role inside its sub-room (each sub-room may have its own).
 ROLE_NAMES = {"__init__", "__main__", "compiled", "figures", "report", "measures", "tables",

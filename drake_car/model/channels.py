@@ -5,6 +5,8 @@ calc runs only when a logger samples it."""
 
 import math
 
+import numpy as np
+
 from pydrake.common.value import Value
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialAcceleration, SpatialVelocity
@@ -20,7 +22,15 @@ CAR_CHANNELS = {
     "struts": tuple(f"d_{s}_m" for s in SIDES) + tuple(f"rot_{s}_rad" for s in SIDES),
     "energy": ("kinetic_J", "potential_J"),
     "top_mounts": tuple(f"top_mount_{a}_{s}_m" for s in SIDES for a in "xyz"),
+    "ride": ("az_seat_mps2", "roll_acc_radps2", "pitch_acc_radps2"),
 }
+# The driver's seat point in the body (vehicle frame V: on the ground midway between the front
+# contact points, x forward, y left): [EST] the floor under the driver's seat pan (ISO 2631-1
+# measures at the seat surface under the ischial tuberosities; the seat's own cushion is not
+# modelled, so this is the seat's mounting point): 1.25 m behind the front axle (a C-segment
+# car's front-seat H-point sits about mid-wheelbase, here 2.39 m), 0.37 m left of the centre
+# line (a left-hand-drive car, half a front-seat spacing), 0.50 m above the ground.
+SEAT_POINT_M = (-1.25, 0.37, 0.50)
 # Below this speed the sideslip angle is not defined (reported as 0).
 SIDESLIP_MIN_SPEED_MPS = 0.5
 
@@ -44,6 +54,7 @@ class CarChannels(LeafSystem):
         - struts (if asked for)
         - energy (if asked for)
         - top_mounts (if asked for)
+        - ride (if asked for)
 
     ``chassis``: position x, y, z of the body origin (m); roll, pitch, yaw (rad, fixed-axis
     x-y-z); yaw rate about world z (rad/s); horizontal speed (m/s); sideslip angle at the body
@@ -54,7 +65,10 @@ class CarChannels(LeafSystem):
     body (rad, left +). ``struts``: overlap d = l - s of the left and right strut (m) and the
     rod's rotation in its cylinder (rad). ``energy``: the plant's kinetic energy and the
     potential energy of gravity and the coil springs (J), the SAP pacer's body left out.
-    ``top_mounts``: the compliant mounts' deflections (m).
+    ``top_mounts``: the compliant mounts' deflections (m). ``ride``: the world-vertical
+    acceleration of the body point ``SEAT_POINT_M`` (m/s², gravity not included: a = a_o +
+    α × r + ω × (ω × r)), and the body's angular acceleration about its own x (roll) and y
+    (pitch) axes (rad/s²).
     """
 
     def __init__(self, plant, car, groups, *, pacer_instance=None):
@@ -89,7 +103,7 @@ class CarChannels(LeafSystem):
             "net_actuation", plant.num_actuated_dofs(car.instance))
         calc = {"chassis": self._calc_chassis, "steering": self._calc_steering,
                 "struts": self._calc_struts, "energy": self._calc_energy,
-                "top_mounts": self._calc_top_mounts}
+                "top_mounts": self._calc_top_mounts, "ride": self._calc_ride}
         for group in groups:
             self.DeclareVectorOutputPort(group, len(CAR_CHANNELS[group]), calc[group])
 
@@ -125,6 +139,16 @@ class CarChannels(LeafSystem):
             axis = body.T @ poses[wheel].rotation().matrix()[:, 1]  # spin axis in the body
             values.append(math.atan2(-axis[0], axis[1]))
         output.SetFromVector(values)
+
+    def _calc_ride(self, context, output):
+        rotation = self._poses.Eval(context)[self._chassis].rotation().matrix()
+        w = self._velocities.Eval(context)[self._chassis].rotational()
+        acceleration = self._accelerations.Eval(context)[self._chassis]
+        alpha, a_origin = acceleration.rotational(), acceleration.translational()
+        r = rotation @ np.asarray(SEAT_POINT_M)
+        a_seat = a_origin + np.cross(alpha, r) + np.cross(w, np.cross(w, r))
+        alpha_body = rotation.T @ alpha
+        output.SetFromVector([a_seat[2], alpha_body[0], alpha_body[1]])
 
     def _calc_struts(self, context, output):
         x = self._state.Eval(context)

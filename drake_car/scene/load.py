@@ -26,7 +26,10 @@ from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene, default_plant_config
 
 # Every channel group a scene can log.
-CHANNEL_GROUPS = ("chassis", "steering", "struts", "tyres", "friction", "energy", "top_mounts")
+CHANNEL_GROUPS = ("chassis", "steering", "struts", "tyres", "friction", "energy", "top_mounts",
+                  "ride")
+# Groups logged only when a scene lists them (not in the default "all it has").
+OPT_IN_CHANNELS = ("ride",)
 # Plant-config fields that have no effect on this car (it has no collision geometry): they
 # must keep their defaults, so that every value of a scene changes its run.
 INERT_PLANT_FIELDS = ("penetration_allowance", "stiction_tolerance", "contact_model",
@@ -260,7 +263,7 @@ def _check_cross(scene: Scene):
         raise ParameterError("drive", type(scene.drive).__name__,
                              "has no effect on a Settle manoeuvre (no drive); leave it out")
     if scene.logging.channels is not None:
-        have = available_channels(scene)
+        have = available_channels(scene) + list(OPT_IN_CHANNELS)
         for i, group in enumerate(scene.logging.channels):
             if group not in CHANNEL_GROUPS:
                 raise ParameterError(f"logging.channels[{i}]", group,

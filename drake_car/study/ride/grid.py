@@ -1,0 +1,128 @@
+"""The ride study's runs (issue 23): the car driving straight at constant speed over an ISO
+8608 road, for road classes × speeds × strut friction μs, each scene also at half the step (its
+numerical error, run by run). Pure: scenes in, scenes out; the sweep runs them.
+
+The base scene is ``scenes/ride.yaml``'s ``ride``. Per run this sets: the road (``law.road.
+iso8608.road_profile``, one seed for every class and speed, so the classes' roads are one
+shape scaled by sqrt(Gd): class B is twice class A, C twice B, and every μs meets the same
+road: paired comparisons), the speed with its speed-up (the paper's 0.57 g: 60 km/h in 3 s,
+100 km/h in 5 s), the friction (μd = ``mu_d_ratio`` μs; μs = 0: no dry friction, the car's
+own strut damper) and the step.
+
+Two strut models for μs > 0 (``strut``): ``damper`` keeps the car's hydraulic damping and adds
+the dry friction (a real strut: a damper whose rod seal and guide also rub, as Deubel et al.
+measured); ``paper`` removes the viscous damping (Harlecki & Kubas' dry strut, DESIGN 3).
+"""
+
+import dataclasses
+import functools
+import typing
+
+from pydrake.multibody.plant import MultibodyPlantConfig
+
+from drake_car.law.road.iso8608 import road_profile
+from drake_car.scene.load import check_scene, load_scene
+from drake_car.scene.scene import Friction
+from drake_car.law.friction.frd import StrutFrictionParameters
+
+# The paper's speed-up (section 4): 60 km/h in 3 s, 0.57 g, kept for every speed.
+SPEED_UP_KPH_PER_S = 20.0
+STRUTS = ("damper", "paper")
+
+
+@dataclasses.dataclass
+class RideStudy:
+    classes: typing.List[str] = dataclasses.field(default_factory=lambda: ["A", "B", "C"])
+    speeds_kph: typing.List[float] = dataclasses.field(default_factory=lambda: [60.0, 100.0])
+    mu_s: typing.List[float] = dataclasses.field(
+        default_factory=lambda: [0.0, 0.1, 0.2, 0.3, 0.4])
+    mu_d_ratio: float = 0.75
+    strut: str = "damper"
+    seed: int = 2023
+    road_length_m: float = 400.0
+    # after reaching speed: ``settle_window_s`` to let the speed-up's transients decay, then
+    # ``window_s`` analysed
+    settle_window_s: float = 1.0
+    window_s: float = 6.0
+    # the car's front tracks' width for the road's coherence (m): the Escort's front track
+    track_m: float = 1.39
+
+
+def base_scene():
+    from drake_car.data import resource
+    return load_scene(resource("scenes") / "ride.yaml", child="ride")
+
+
+def speed_up_s(speed_kph):
+    return speed_kph / SPEED_UP_KPH_PER_S
+
+
+@functools.lru_cache(maxsize=16)
+def _road(road_class, seed, length_m, track_m):
+    """The road of a class (one object shared by its runs: a scene's road is not changed)."""
+    return road_profile(road_class, seed=seed, length_m=length_m, track_m=track_m)
+
+
+def scene_name(road_class, speed_kph, mu_s, strut, half):
+    name = f"{road_class}_{speed_kph:g}kph_mu{mu_s:.2f}"
+    if mu_s > 0:
+        name += f"_{strut}"
+    return name + ("_half" if half else "")
+
+
+def ride_scene(study: RideStudy, road_class, speed_kph, mu_s, *, half=False, base=None):
+    """One run's scene."""
+    base = base or base_scene()
+    timeline = dataclasses.replace(
+        base.manoeuvre.timeline, speed_kph=float(speed_kph),
+        speed_up_s=speed_up_s(speed_kph), straight_s=0.0,
+        steer_s=study.settle_window_s + study.window_s, calm_s=0.0)
+    manoeuvre = dataclasses.replace(base.manoeuvre, timeline=timeline)
+    road = _road(road_class, study.seed, study.road_length_m, study.track_m)
+    car, friction = base.car, None
+    if mu_s > 0:
+        law = dataclasses.replace(StrutFrictionParameters(), mu_s=float(mu_s),
+                                  mu_d=study.mu_d_ratio * float(mu_s))
+        friction = Friction(law=law)
+        if study.strut == "paper":
+            car = dataclasses.replace(car, front=dataclasses.replace(car.front,
+                                                                     strut_damping_Nspm=0.0))
+    plant = MultibodyPlantConfig(**{f.name: getattr(base.plant, f.name)
+                                    for f in MultibodyPlantConfig.__fields__})
+    if half:
+        plant.time_step = base.plant.time_step / 2
+    logging = base.logging
+    if friction is not None:
+        logging = dataclasses.replace(logging, channels=[*logging.channels, "friction"])
+    scene = dataclasses.replace(base, name=scene_name(road_class, speed_kph, mu_s, study.strut,
+                                                      half),
+                                manoeuvre=manoeuvre, road=road, car=car, friction=friction,
+                                plant=plant, logging=logging)
+    scene = check_scene(scene, f"ride study {scene.name}")
+    distance = timeline.speed_mps * (0.5 * timeline.speed_up_s + timeline.steer_s)
+    if distance + 10.0 > road.x_m[-1]:
+        raise ValueError(f"ride study: the road ({road.x_m[-1]:.0f} m) is shorter than the "
+                         f"run's {distance:.0f} m plus 10 m; raise road_length_m")
+    return scene
+
+
+def analysed_from_s(scene, study: RideStudy):
+    """The start of the analysed window of ``scene`` (s)."""
+    t = scene.manoeuvre.timeline
+    return t.settle_s + t.speed_up_s + study.settle_window_s
+
+
+def ride_scenes(study: RideStudy, order=None):
+    """{name: scene} of every run and its half-step twin; ``order``: a list of (class, speed)
+    to run first (the rest follow)."""
+    base = base_scene()
+    cells = [(c, v) for v in study.speeds_kph for c in study.classes]
+    if order:
+        cells = [c for c in order if c in cells] + [c for c in cells if c not in order]
+    scenes = {}
+    for road_class, speed in cells:
+        for mu_s in study.mu_s:
+            for half in (False, True):
+                scene = ride_scene(study, road_class, speed, mu_s, half=half, base=base)
+                scenes[scene.name] = scene
+    return scenes
