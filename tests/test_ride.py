@@ -90,3 +90,21 @@ def test_bad_input_is_one_line_and_status_2(tmp_path, args, names):
     assert result.returncode == 2, result.stderr
     assert len(result.stderr.strip().splitlines()) == 1 and names in result.stderr
     assert not out.exists()
+
+
+@pytest.mark.slow
+def test_the_command_finds_the_sweeps_runs_by_their_keys(tmp_path):
+    """The ride command reads back each finished run from the sweep's folder, named by the
+    run's key (the scene, the files it reads, the code), not by the scene's hash alone."""
+    from drake_car.commands.ride import finished_runs
+    from drake_car.sweep.runner import run_sweep
+    study = RideStudy(settle_window_s=0.2, window_s=0.2, road_length_m=40.0)
+    scene = ride_scene(study, "A", 30.0, 0.0)
+    timeline = dataclasses.replace(scene.manoeuvre.timeline, settle_s=0.0, speed_up_s=0.3)
+    scene = dataclasses.replace(scene, manoeuvre=dataclasses.replace(scene.manoeuvre,
+                                                                     timeline=timeline))
+    result = run_sweep({"short": scene}, tmp_path / "sweep", workers=1, progress=False)
+    assert result["ok"] == 1, result
+    found = finished_runs(tmp_path / "sweep", {"short": scene})
+    assert list(found) == ["short"]
+    assert found["short"].history["t"][-1] == pytest.approx(scene.end_time_s, abs=0.01)

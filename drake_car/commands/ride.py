@@ -1,0 +1,104 @@
+"""Ride comfort and road holding on ISO 8608 roads against the struts' dry friction: the car
+drives straight at constant speed over a two-track random road; per run the ISO 2631-1
+Wk-weighted RMS vertical acceleration at the driver's seat point, the pitch and roll
+accelerations, the dynamic wheel-load coefficients front and rear and the rods' sticking, each
+with its numerical error (the run against itself at half the step). Runs go through the sweep
+runner into DIR/runs (resumable: the same command again reuses every finished run); the
+analysis uses every finished run of the chosen cells. Writes into DIR:
+
+  outcomes.csv            a row per run and outcome, with its numerical error
+  ride_vs_mu_<strut>.png  comfort and wheel-load fluctuation against μs per class and speed
+  psd_<class>_<speed>_<strut>.png   the seat point's acceleration spectrum, with and without
+                          friction
+  report.md               what a given μs costs in comfort and road holding
+  runs/, index.csv, sweep.json   the sweep's runs (python -m drake_car.sweep's layout)
+
+  python experiments/ride.py --out DIR [--classes B,C] [--speeds 60] [--strut damper]
+"""
+
+import dataclasses
+import time
+
+from drake_car import cli
+from drake_car.law.checks import ParameterError
+from drake_car.results.files import read_csv
+from drake_car.study.ride.analysis import collect
+from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
+from drake_car.study.ride.report import write_outputs
+from drake_car.sweep.__main__ import check_sweep_folder
+from drake_car.sweep.runner import run_sweep
+from drake_car.sweep.store import key_parts, read_status, run_key
+
+
+@dataclasses.dataclass
+class FinishedRun:
+    scene: object
+    history: dict
+    wall_s: float
+
+
+def _list(text, kind, name):
+    try:
+        values = [kind(v) for v in text.split(",") if v]
+    except ValueError:
+        raise ParameterError(name, text, "must be a comma-separated list") from None
+    if not values:
+        raise ParameterError(name, text, "must name at least one value")
+    return values
+
+
+def main(argv=None):
+    p = cli.parser(__doc__)
+    p.add_argument("--classes", default="A,B,C", help="ISO 8608 road classes (default: A,B,C)")
+    p.add_argument("--speeds", default="60,100", help="speeds in km/h (default: 60,100)")
+    p.add_argument("--strut", default="damper",
+                   help="damper (the car's damper plus dry friction), paper (dry friction "
+                        "alone, as the paper's strut) or both (default: damper)")
+    p.add_argument("--workers", type=cli.count, default=None,
+                   help="local workers (default: one per core)")
+    p.add_argument("--no_run", action="store_true", help="analyse the finished runs only")
+    args = p.parse_args(argv)
+    classes = _list(args.classes, str, "--classes")
+    speeds = _list(args.speeds, float, "--speeds")
+    struts = list(STRUTS) if args.strut == "both" else [args.strut]
+    if any(s not in STRUTS for s in struts):
+        raise ParameterError("--strut", args.strut, f"must be one of {', '.join(STRUTS)}, both")
+    studies = [RideStudy(classes=classes, speeds_kph=speeds, strut=s) for s in struts]
+    scenes = {}
+    for study in studies:
+        scenes.update(ride_scenes(study))
+    check_sweep_folder(args.out)
+    began = time.perf_counter()
+    if not args.no_run:
+        result = run_sweep(scenes, args.out, workers=args.workers, progress=not args.quiet)
+        print(f"sweep: {result['ok']} ok, {result['failed']} failed, {result['reused']} "
+              f"reused, {result['wall_s']:.0f} s")
+    runs = finished_runs(args.out, scenes)
+    rows = collect(runs, lambda scene: analysed_from_s(scene, studies[0]))
+    if not rows:
+        raise ParameterError("--out", str(args.out), "holds no finished run with its "
+                             "half-step twin (run without --no_run first)")
+    write_outputs(args.out, rows, runs, studies[0], time.perf_counter() - began)
+    print(f"wrote {args.out / 'report.md'} ({len(rows)} runs with their twins)")
+
+
+def finished_runs(out, scenes):
+    """name -> (scene, history, wall_s) of the scenes with an ok run in ``out`` (its folder
+    named by the run's key: the scene, the files it reads, the code): the history read from
+    its CSV (bit for bit the run's), the scene the grid's own."""
+    runs = {}
+    for name, scene in scenes.items():
+        folder = out / "runs" / run_key(key_parts(scene))
+        record = read_status(folder)
+        if record is not None and record.get("status") == "ok":
+            runs[name] = FinishedRun(scene, read_csv(folder / "history.csv"), record["wall_s"])
+    return runs
+
+
+def console():
+    """The console script ``drake-car-ride``."""
+    cli.run_main(main)
+
+
+if __name__ == "__main__":
+    console()
