@@ -37,3 +37,17 @@ def test_families_group_what_agrees_until_the_lane_change():
     assert branch_point(other)[0] != branch_point(scenes["a_3"])[0]
     with pytest.raises(ValueError, match="do not share a prefix"):
         simulate_family([scenes["a_3"], other])
+
+
+def test_a_branched_hands_off_run_starts_with_the_rack_held():
+    """Hands off: the first run of a family lets go of the rack at its release time (the rack
+    servo's gains are plant model values, written by a GainSchedule); the branched run starts
+    at the lane change, before the release, so its rack must be held again: it equals the run
+    from scratch bit for bit."""
+    hands_off = SHORT + "\nsteering: !HandsOff {}"
+    a, b = paper_scene("a_2", hands_off), paper_scene("b_2", hands_off)
+    branched = simulate_family([a, b])
+    scratch = simulate(b)
+    for column, values in scratch.history.items():
+        if column != "phase":
+            assert np.array_equal(branched[1].history[column], values), column

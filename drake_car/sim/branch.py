@@ -23,6 +23,8 @@ from drake_car.scene.load import scene_hash
 from drake_car.scene.manoeuvres import LaneChange
 from drake_car.scene.scene import NoVisualization, Scene
 from drake_car.sim.simulate import Runner, simulate
+from drake_car.systems.gain_schedule import GainSchedule
+from drake_car.systems.strut_friction import StrutFriction
 
 
 def branch_point(scene: Scene):
@@ -36,6 +38,15 @@ def branch_point(scene: Scene):
         return None
     prefix = dataclasses.replace(scene, name="", manoeuvre=dataclasses.replace(m, case="a"))
     return scene_hash(prefix), t_branch
+
+
+def _write_model_values(built, root):
+    """The PD gains and effort limits that the friction and the hands-off schedule keep in the
+    plant's model (not its context) written again from ``root``'s context: the family's earlier
+    run left them as they were at its end (a released rack, a sliding pair)."""
+    for system in built.diagram.GetSystems():
+        if isinstance(system, (GainSchedule, StrutFriction)):
+            system.ForcedPublish(system.GetMyContextFromRoot(root))
 
 
 def families(scenes: dict):
@@ -67,9 +78,7 @@ def simulate_family(scenes: list, *, progress=False):
     runs = [first.finish()]
     for scene in scenes[1:]:
         runner = Runner(scene, progress=progress, built=first.built, context=saved.Clone())
-        friction = runner.built.friction
-        if friction is not None:
-            friction.ForcedPublish(friction.GetMyContextFromRoot(runner.root))
+        _write_model_values(runner.built, runner.root)
         runner.simulator.Initialize(InitializeParams(suppress_initialization_events=True))
         # Starting at the branch time, the loggers sample that time again: the channels' logs
         # keep it once (sim.simulate.logged_history), the every-step log is not a new step.
