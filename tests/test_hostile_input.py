@@ -346,6 +346,23 @@ def test_out_inside_a_folder_another_run_replaces_is_refused(tmp_path, capsys, h
     assert sorted(p.name for p in outer.iterdir()) == [".B.lock", ".drake_car_output"]
 
 
+def test_a_sweep_inside_a_folder_another_run_replaces_is_refused(tmp_path, capsys, held_lock,
+                                                                 monkeypatch):
+    """The sweep command's --out too: a sweep folder inside a folder another run writes (and
+    will replace whole) is refused before any work, naming that folder."""
+    from drake_car.sweep import __main__ as sweep_command
+    monkeypatch.chdir(ROOT)
+    outer = tmp_path / "A"
+    pid = held_lock(tmp_path / ".A.lock")
+    with pytest.raises(SystemExit) as stopped:
+        cli.run_main(sweep_command.main, ["--scenes", "scenes/paper_study.yaml:a_1", "--out",
+                                          str(outer / "sweep"), "--quiet"])
+    err = capsys.readouterr().err
+    assert stopped.value.code == 2, err[-800:]
+    assert f"inside {outer}, which another run (pid {pid}) is writing" in err, err[-800:]
+    assert not outer.exists()
+
+
 @pytest.mark.parametrize("errno_name, at", [("ENOSPC", "write"), ("EACCES", "rename"),
                                              ("ENAMETOOLONG", "rename")])
 def test_os_errors_on_the_output_take_the_one_error_path(errno_name, at, tmp_path, capsys,

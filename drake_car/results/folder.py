@@ -59,10 +59,10 @@ def check_output_target(out_dir):
                               f"{len(os.fsencode(part))} bytes; names here are limited to "
                               f"{name_max} bytes, {name_max - _BESIDE_BYTES} for an output "
                               "folder (its temporary names are longer)")
-    _check_no_run_in_progress(out_dir)
+    check_no_run_in_progress(out_dir)
 
 
-def _check_no_run_in_progress(out_dir):
+def check_no_run_in_progress(out_dir):
     """Another run writing a folder that holds ``out_dir`` (it would replace it, and ours with
     it) or a folder inside ``out_dir`` (ours would replace it) is refused, naming it."""
     out_dir = Path(out_dir).absolute()
@@ -129,7 +129,7 @@ def output_folder(out_dir):
     with _os_errors_named(out_dir, parent):
         parent.mkdir(parents=True, exist_ok=True)
     with terminate_as_exit(), folder_lock(parent / f".{name}.lock", out_dir):
-        _check_no_run_in_progress(out_dir)  # again, holding our lock: no race with a new one
+        check_no_run_in_progress(out_dir)  # again, holding our lock: no race with a new one
         for stale in parent.glob(f".{name}.partial-*"):  # killed runs': we hold the lock
             _remove(stale)
         staging = parent / f".{name}.partial-{os.getpid()}-{uuid.uuid4().hex[:8]}"

@@ -41,7 +41,8 @@ from pydrake.common.yaml import yaml_dump, yaml_load
 from drake_car import cli
 from drake_car.law.checks import one_line
 from drake_car.results.files import write_json
-from drake_car.results.folder import OutputError, terminate_as_exit
+from drake_car.results.folder import (
+    OutputError, check_no_run_in_progress, terminate_as_exit)
 from drake_car.results.provenance import provenance
 from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_scene_option
 from drake_car.scene.scene import MeshcatLive
@@ -223,6 +224,7 @@ def check_sweep_folder(out):
     if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
         raise OutputError(f"--out {out}: {probe} is not a writable folder")
     check_unlocked(out)
+    check_no_run_in_progress(out)  # not inside or around another command's output in progress
     if out.is_dir():
         check_layout(out)
 
