@@ -67,7 +67,8 @@ class CommandParser(argparse.ArgumentParser):
         return parsed, rest
 
 
-def parser(doc, *, out=True, prog=None):
+def parser(doc, *, out=True, prog=None,
+           out_help="output folder (written all or nothing; replaced whole)"):
     """A command's parser: the script's docstring, ``--quiet``/``--verbose`` (logging and
     progress bars) and (``out``) a required ``--out``; ``prog``: the command's name in its
     usage line (default: the script's file name)."""
@@ -77,8 +78,7 @@ def parser(doc, *, out=True, prog=None):
                    help="warnings and errors only, no progress bars")
     p.add_argument("--verbose", action="store_true", help="debug messages too")
     if out:
-        p.add_argument("--out", type=Path, required=True,
-                       help="output folder (written all or nothing; replaced whole)")
+        p.add_argument("--out", type=Path, required=True, help=out_help)
     return p
 
 

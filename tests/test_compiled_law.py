@@ -223,12 +223,12 @@ def test_friction_law(law):
 
 
 def test_compiled_phases_are_the_laws():
-    """frd_compiled defines STATIC and KINETIC itself (numba's on-disk cache watches that file
-    only): they must stay equal to frd_friction's."""
+    """law.friction.compiled defines STATIC and KINETIC itself (numba's on-disk cache watches
+    that file only): they must stay equal to law.friction.frd's."""
     for name, compiled, reference in (("STATIC", fc.STATIC, STATIC),
                                       ("KINETIC", fc.KINETIC, KINETIC)):
         assert compiled == reference, (
-            f"frd_compiled.{name} = {compiled}, frd_friction.{name} = {reference}")
+            f"law.friction.compiled.{name} = {compiled}, law.friction.frd.{name} = {reference}")
 
 
 def test_normal_force_forms():

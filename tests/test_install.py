@@ -44,8 +44,16 @@ def test_every_console_script_names_a_command_with_help():
     import importlib
     import tomllib
     scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
-    assert {"drake-car-run", "drake-car-sweep", "drake-car-paper", "drake-car-design",
-            "drake-car-handling", "drake-car-tyre"} <= set(scripts)
+    # Every command module with a console() is installed, and the README names its script.
+    commands = {f"drake_car.commands.{p.stem}:console"
+                for p in (ROOT / "drake_car" / "commands").glob("*.py")
+                if "def console(" in p.read_text()}
+    commands |= {"drake_car.run:console", "drake_car.sweep.__main__:console",
+                 "drake_car.tyre.__main__:console"}
+    assert commands == set(scripts.values()), commands ^ set(scripts.values())
+    readme = (ROOT / "README.md").read_text()
+    assert all(f"`{name}`" in readme for name in scripts), [
+        name for name in scripts if f"`{name}`" not in readme]
     for name, target in scripts.items():
         module, _, function = target.partition(":")
         assert callable(getattr(importlib.import_module(module), function)), name

@@ -138,9 +138,11 @@ def main(argv=None):
     p.add_argument("--workers", type=cli.count, default=None)
     p.add_argument("--runs_dir", default="results/accuracy_cost_runs",
                    help="the sweeps' folders (<runs_dir>/fast, <runs_dir>/reference), kept "
-                        "and reused by a rerun (default: %(default)s)")
+                        "and reused by a rerun, outside --out: --out is written whole, the "
+                        "runs are added to (default: %(default)s)")
     p.add_argument("--schemes", default="fast,reference", choices=("fast,reference", "fast",
                                                                    "reference"),
+                   metavar="{fast,reference | fast | reference}",
                    help="run only one scheme's sweep (no analysis): to start the long one")
     args = p.parse_args(argv)
     cli.check_out(args)

@@ -32,7 +32,9 @@ from drake_car.sweep.runner import run_sweep
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, out_help=(
+        "the study's folder: its sweep's runs are added as they finish and "
+        "reused by the same command again; the study's results are rewritten"))
     p.add_argument("--study", default=f"{resource('scenes/studies/design.yaml')}:study",
                    help="the study's spec, FILE:ENTRY (default: %(default)s)")
     p.add_argument("--quick", action="store_true", help="a smoke run of every part")

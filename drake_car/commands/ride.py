@@ -27,7 +27,8 @@ from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_s
 from drake_car.study.ride.report import write_outputs
 from drake_car.sweep.__main__ import check_sweep_folder
 from drake_car.sweep.runner import run_sweep
-from drake_car.sweep.store import key_parts, read_status, run_key
+from drake_car.results.folder import OutputError
+from drake_car.sweep.store import damage, key_parts, read_status, run_key
 
 
 @dataclasses.dataclass
@@ -48,7 +49,9 @@ def _list(text, kind, name):
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, out_help=(
+        "the study's sweep folder: its runs are added to it as they finish and "
+        "reused by the same command again (never replaced)"))
     p.add_argument("--classes", default="A,B,C", help="ISO 8608 road classes (default: A,B,C)")
     p.add_argument("--speeds", default="60,100", help="speeds in km/h (default: 60,100)")
     p.add_argument("--strut", default="damper",
@@ -85,12 +88,16 @@ def main(argv=None):
 def finished_runs(out, scenes):
     """name -> (scene, history, wall_s) of the scenes with an ok run in ``out`` (its folder
     named by the run's key: the scene, the files it reads, the code): the history read from
-    its CSV (bit for bit the run's), the scene the grid's own."""
+    its CSV (bit for bit the run's, its checksum checked), the scene the grid's own."""
     runs = {}
     for name, scene in scenes.items():
         folder = out / "runs" / run_key(key_parts(scene))
         record = read_status(folder)
         if record is not None and record.get("status") == "ok":
+            why = damage(folder, record)
+            if why:
+                raise OutputError(f"{folder}: {why}; run the command again without --no_run "
+                                  "(damaged runs are rerun)")
             runs[name] = FinishedRun(scene, read_csv(folder / "history.csv"), record["wall_s"])
     return runs
 

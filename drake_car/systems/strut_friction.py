@@ -192,7 +192,7 @@ class StrutFriction(LeafSystem):
         self._labels = [struts[k].label for k in self._strut_of]
         self._q_index = [p.joint.position_start() for p in self._pairs]
         self._actuators = [p.actuator for p in self._pairs]
-        # The per-step computation is law.frd_compiled's: the pairs and struts as arrays.
+        # The per-step computation is law.friction.compiled's: the pairs and struts as arrays.
         self._pair_rows = np.array([
             pack_pair(law, self._strut_params[i], rotation=pair.kind == "rotation",
                       strut=self._strut_of[i], q_index=self._q_index[i],

@@ -1,5 +1,5 @@
 """One step of the FRD friction law for a set of friction pairs, compiled with numba: line for
-line ``frd_friction`` (the reference; ``tests/test_compiled_law.py`` checks the two agree to
+line ``law.friction.frd`` (the reference; ``tests/test_compiled_law.py`` checks the two agree to
 round-off) and the per-step values of the schemes of ``systems.strut_friction`` (which
 documents them). No Drake here.
 
@@ -17,7 +17,7 @@ import numpy as np
 
 from drake_car.law.friction.frd import NORMAL_FORCE_FORMS
 
-# The friction phases, as ``frd_friction``'s (a test checks they are equal). Defined here, not
+# The friction phases, as ``law.friction.frd``'s (a test checks they are equal). Defined here, not
 # imported: numba freezes the globals a compiled function reads into its on-disk cache, which
 # is invalidated by a change of this file only, so an imported value could go stale there.
 STATIC = 0.0
@@ -83,7 +83,7 @@ def _sign(x):
 
 @_jit
 def shape(x, cubic):
-    """``frd_friction.shape``."""
+    """``law.friction.frd.shape``."""
     x = 0.0 if 0.0 > x else x  # Python's min(max(x, 0.0), 1.0)
     x = 1.0 if 1.0 < x else x
     return x * x * (3.0 - 2.0 * x) if cubic else x
@@ -91,7 +91,7 @@ def shape(x, cubic):
 
 @_jit
 def shape_slope(x, cubic):
-    """``frd_friction.shape_slope``."""
+    """``law.friction.frd.shape_slope``."""
     if not (0.0 <= x < 1.0):
         return 0.0
     return 6.0 * x * (1.0 - x) if cubic else 1.0
@@ -99,7 +99,7 @@ def shape_slope(x, cubic):
 
 @_jit
 def mu_kinetic(speed, mu_s, mu_d, dv):
-    """``frd_friction.mu_kinetic``."""
+    """``law.friction.frd.mu_kinetic``."""
     speed = abs(speed)
     if speed <= dv:
         return mu_s
@@ -111,7 +111,7 @@ def mu_kinetic(speed, mu_s, mu_d, dv):
 
 @_jit
 def friction_coefficient(velocity, creep, mu_s, mu_d, dv, dmax, beta_cubic, creep_cubic):
-    """``frd_friction.friction_coefficient``: (mu, beta, mu1, phase)."""
+    """``law.friction.frd.friction_coefficient``: (mu, beta, mu1, phase)."""
     if abs(velocity) <= dv:
         b = shape(abs(velocity) / dv, beta_cubic)
         m1 = mu_s * shape(abs(creep) / dmax, creep_cubic)
@@ -122,7 +122,7 @@ def friction_coefficient(velocity, creep, mu_s, mu_d, dv, dmax, beta_cubic, cree
 
 @_jit
 def advance_creep(creep, phase, velocity, displacement, dv, dmax):
-    """``frd_friction.advance_creep``: (creep, phase)."""
+    """``law.friction.frd.advance_creep``: (creep, phase)."""
     if abs(velocity) > dv:
         return 0.0, KINETIC
     if phase == KINETIC:
@@ -134,7 +134,7 @@ def advance_creep(creep, phase, velocity, displacement, dv, dmax):
 
 @_jit
 def normal_force(fx, fy, fz, mx, my, mz, overlap, preload_force, mu_s, form, ux, uy, uz):
-    """``frd_friction.normal_force`` (``form``: the index in ``NORMAL_FORCE_FORMS``)."""
+    """``law.friction.frd.normal_force`` (``form``: the index in ``NORMAL_FORCE_FORMS``)."""
     preload = preload_force / mu_s if preload_force > 0 else 0.0
     if form == 0:
         return math.sqrt((mx / overlap + fx) ** 2 + (my / overlap + fy) ** 2
@@ -200,7 +200,7 @@ def friction_step(x, reactions, initial, fast, pairs, struts, memory, actuation,
                                                 pair[P.BETA_CUBIC] != 0.0,
                                                 pair[P.CREEP_CUBIC] != 0.0)
         # What μ multiplies: N for the translation pair (eq. 5), N r + M0/μs for the rotation
-        # pair (eq. 6): frd_friction.friction_force / friction_moment at μ = 1.
+        # pair (eq. 6): law.friction.frd.friction_force / friction_moment at μ = 1.
         if pair[P.ROTATION] != 0.0:
             preload = (pair[P.PRELOAD_MOMENT] / pair[P.STRUT_MU_S]
                        if pair[P.PRELOAD_MOMENT] > 0 else 0.0)

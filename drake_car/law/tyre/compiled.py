@@ -1,7 +1,7 @@
 """The tyre's per-step maths compiled with numba: the Magic Formula, the radial contact, the slips
 and one step of four wheels, line for line the pure-Python law of ``magic_formula``,
-``tyre_contact``, ``tyre_slip`` and ``road`` (the reference; ``tests/test_compiled_law.py``
-checks the two agree to round-off). No Drake here.
+``law.tyre.contact``, ``law.tyre.slip`` and ``law.road.profiles`` (the reference;
+``tests/test_compiled_law.py`` checks the two agree to round-off). No Drake here.
 
 Why: these run every step for four wheels, where Python's per-call cost dominates (the Magic
 Formula for four wheels: 26 µs as scalar Python, about 2 µs compiled). Everything compiled lives
@@ -289,7 +289,7 @@ def tyre_step(frames, twists, wheels, relaxation, advance, config, coefficients,
         (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = (
             frames[row, 0], frames[row, 1], frames[row, 2])
         wx, wy, wz, vx, vy, vz = twists[row]
-        # The contact point (law.tyre_contact.contact_point; the spin axis a is the body y).
+        # The contact point (law.tyre.contact.contact_point; the spin axis a is the body y).
         ax, ay, az = r01, r11, r21
         dx, dy, dz = az * ax, az * ay, -1.0 + az * az
         norm = math.sqrt(dx * dx + dy * dy + dz * dz)
@@ -303,7 +303,7 @@ def tyre_step(frames, twists, wheels, relaxation, advance, config, coefficients,
             ground = road_height(road, x, y)
             deflection = ground - z
             deflection = deflection if deflection > 0.0 else 0.0
-        # The radial force (law.tyre_contact.radial_force).
+        # The radial force (law.tyre.contact.radial_force).
         fz = 0.0
         if deflection > 0.0:
             fz = (config[C.STIFFNESS] * deflection
@@ -319,7 +319,7 @@ def tyre_step(frames, twists, wheels, relaxation, advance, config, coefficients,
         if magic:
             if fz > config[C.MAX_LOAD]:
                 return k
-            # The contact kinematics (law.tyre_slip.contact_kinematics).
+            # The contact kinematics (law.tyre.slip.contact_kinematics).
             ex, ey = ay, -ax
             norm = math.hypot(ex, ey)
             if norm > 1e-9:
@@ -334,7 +334,7 @@ def tyre_step(frames, twists, wheels, relaxation, advance, config, coefficients,
             spin = wx * ax + wy * ay + wz * az
             v_sx = v_cx - spin * (radius - deflection / 3.0)
             v_sy = -mx * ey + my * ex
-            # The slips: transient (relaxation, advanced first) or steady (law.tyre_slip).
+            # The slips: transient (relaxation, advanced first) or steady (law.tyre.slip).
             if config[C.RELAXED] != 0.0:
                 if advance:
                     if fz <= 0.0:  # wheel off the road: the contact patch relaxes to zero
