@@ -73,7 +73,8 @@ def main(argv=None):
                         "time (default: %(default)g)")
     p.add_argument("--runs_dir", type=Path, default=None,
                    help="keep every run (each step tried) in this sweep folder too, by its "
-                        "scene's hash: a rerun reuses them (default: in memory only)")
+                        "key (scene, files read, code): a rerun reuses them (default: in "
+                        "memory only)")
     p.add_argument("--no_html", action="store_true", help="no Meshcat replay")
     p.add_argument("--no_paper_drive", action="store_true",
                    help="skip the comparison with the paper's own drive (both front wheels' "

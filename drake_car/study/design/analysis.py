@@ -1,5 +1,5 @@
 """The design study from its finished runs: the tidy table (one row per run: every varied value,
-every outcome, the scene's hash) and the analysis that the report reads (maps, lines, Sobol,
+every outcome, the run's key) and the analysis that the report reads (maps, lines, Sobol,
 Monte Carlo and mitigations, the numerical noise), with the figures written beside it."""
 
 import math

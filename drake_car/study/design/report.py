@@ -101,7 +101,7 @@ def report(s, figures=""):
         lines.append(f"- {key}: {scale * level:.3g} {unit}".rstrip())
     lines += ["", "## Files", "",
               f"`{figures}table.csv`: one row per run (every varied value, every outcome, the "
-              "scene's hash; `pandas.read_csv`); `sweep/runs/<hash>/`: each run's history and "
+              "run's key; `pandas.read_csv`); `sweep/runs/<hash>/`: each run's history and "
               "scene as it ran; figures as above.", ""]
     return "\n".join(lines)
 
