@@ -25,10 +25,10 @@ from drake_car.results.files import read_csv
 from drake_car.study.ride.analysis import collect
 from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
 from drake_car.study.ride.report import write_outputs
-from drake_car.sweep.__main__ import check_sweep_folder
 from drake_car.sweep.runner import run_sweep
 from drake_car.results.folder import OutputError
-from drake_car.sweep.store import damage, key_parts, read_status, run_key
+from drake_car.sweep.store import (
+    check_sweep_folder, damage, key_parts, read_status, run_key)
 
 
 @dataclasses.dataclass

@@ -9,7 +9,7 @@ import hashlib
 import json
 from pathlib import Path
 
-from drake_car.results.files import parse_csv, run_texts  # noqa: F401 - run_texts: here too
+from drake_car.results.files import parse_csv
 from drake_car.results.folder import OutputError
 from drake_car.scene.load import SceneError, load_scene_text
 from drake_car.sim.simulate import Run

@@ -31,23 +31,20 @@ and the others go on; the exit status is then 1.
 import contextlib
 import itertools
 import math
-import os
 import sys
 import time
-from pathlib import Path
 
 from pydrake.common.yaml import yaml_dump, yaml_load
 
 from drake_car import cli
 from drake_car.law.checks import one_line
 from drake_car.results.files import write_json
-from drake_car.results.folder import (
-    OutputError, check_no_run_in_progress, terminate_as_exit)
+from drake_car.results.folder import terminate_as_exit
 from drake_car.results.provenance import provenance
 from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_scene_option
 from drake_car.scene.scene import MeshcatLive
 from drake_car.sim.simulate import estimate_wall_s
-from drake_car.sweep.store import check_layout, check_unlocked, read_sweep_log
+from drake_car.sweep.store import check_sweep_folder, read_sweep_log
 from drake_car.sweep.runner import cores, dask_client, missing, run_sweep
 from drake_car.sweep.scheduler import SCHEDULER_ADDRESS
 
@@ -206,27 +203,6 @@ def overlay(scene_text, point):
             else:
                 node = node.setdefault(part, {})
     return yaml_dump(data)
-
-
-def check_sweep_folder(out):
-    """Refuses an --out that is neither new, nor empty, nor a sweep's folder (sweep.json, or
-    index.csv from ``run_sweep``), or that another sweep is writing to."""
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise OutputError(f"--out {out}: is a file, not a folder")
-    if out.is_dir() and any(out.iterdir()) and not any(
-            (out / name).is_file() for name in ("sweep.json", "index.csv")):
-        raise OutputError(f"--out {out}: exists, is not empty and is not a sweep's folder (no "
-                          "sweep.json); choose a new or empty folder, or a sweep's to resume it")
-    probe = out
-    while not probe.exists():
-        probe = probe.parent
-    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
-        raise OutputError(f"--out {out}: {probe} is not a writable folder")
-    check_unlocked(out)
-    check_no_run_in_progress(out)  # not inside or around another command's output in progress
-    if out.is_dir():
-        check_layout(out)
 
 
 def _grid_option(p, item):

@@ -55,8 +55,9 @@ from pathlib import Path
 from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.law.checks import one_line
+from drake_car.results.files import run_texts
 from drake_car.results.provenance import code_versions
-from drake_car.results.record import run_from_texts, run_texts
+from drake_car.results.record import run_from_texts
 from drake_car.scene.load import check_scene, dump_scene, scene_hash
 from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family

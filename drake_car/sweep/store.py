@@ -4,11 +4,12 @@ completes), the index rebuilt from them, a lock so that one sweep writes at a ti
 simulation raised: kept) or "infrastructure" (Dask gave no result, or its files could not be
 written: the next sweep runs it again); one without a kind counts as "run"."""
 
-import logging
 import csv
+import logging
 import hashlib
 import io
 import json
+import os
 import shutil
 import traceback
 import uuid
@@ -18,7 +19,7 @@ from drake_car.law.tyre.tir import read_tir_bytes
 from drake_car.model.loading import tir_path
 from drake_car.results.columns import folder_readme
 from drake_car.results.files import write_text
-from drake_car.results.folder import OutputError
+from drake_car.results.folder import OutputError, check_no_run_in_progress
 from drake_car.results.folder import folder_lock as results_folder_lock
 from drake_car.results.lock import holder
 from drake_car.results.provenance import code_versions
@@ -246,3 +247,24 @@ def announce_other_code(runs, todo):
     for what, scenes in other.items():
         announce(f"{runs}: {len(scenes)} of these scenes were run before by other {what}; "
                  "they run again under this one (the old runs are kept)")
+
+
+def check_sweep_folder(out):
+    """Refuses an --out that is neither new, nor empty, nor a sweep's folder (sweep.json, or
+    index.csv from ``run_sweep``), or that another sweep is writing to."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"--out {out}: is a file, not a folder")
+    if out.is_dir() and any(out.iterdir()) and not any(
+            (out / name).is_file() for name in ("sweep.json", "index.csv")):
+        raise OutputError(f"--out {out}: exists, is not empty and is not a sweep's folder (no "
+                          "sweep.json); choose a new or empty folder, or a sweep's to resume it")
+    probe = out
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        raise OutputError(f"--out {out}: {probe} is not a writable folder")
+    check_unlocked(out)
+    check_no_run_in_progress(out)  # not inside or around another command's output in progress
+    if out.is_dir():
+        check_layout(out)
