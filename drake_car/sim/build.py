@@ -236,7 +236,8 @@ def _add_tyres(builder, plant, car, scene, driveshafts):
             sigma = relaxation_lengths_m(magic, wheel_N)
             if sigma is None:
                 raise BuildError(f"tyres.slip.relaxation_lengths_from_file: {magic.name} "
-                                 f"({magic.form}) has no PTX*/PTY* relaxation coefficients")
+                                 f"({magic.form}) has no relaxation data (PAC2002: PTX*/PTY*; "
+                                 "MF 6.x: LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS)")
             slip = dataclasses.replace(slip, relaxation_length_long_m=sigma[0],
                                        relaxation_length_lat_m=sigma[1])
     v = scene.car.tyre

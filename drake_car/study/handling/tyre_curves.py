@@ -12,7 +12,11 @@ import math
 import matplotlib
 import numpy as np
 
-from drake_car.law.tyre.magic_formula import magic_formula, relaxation_lengths_m
+from drake_car.law.tyre.magic_formula import (
+    magic_formula,
+    relaxation_lengths_m,
+    relaxation_source,
+)
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -87,9 +91,14 @@ def summary(tyre, table):
                  f" Fz), pneumatic trail {f.pneumatic_trail * 1e3:.1f} mm")
     sigma = relaxation_lengths_m(tyre, tyre.FNOMIN)
     if sigma:
-        lines.append(f"relaxation lengths at FNOMIN from PTX*/PTY*: sigma_kappa "
-                     f"{sigma[0]:.3f} m, sigma_alpha {sigma[1]:.3f} m (the car uses them with "
-                     "tyres.slip.relaxation_lengths_from_file, at its wheel load at rest)")
+        source = {"PTX/PTY": "PTX*/PTY*", "carcass": "the carcass stiffnesses (Kx/Cx, "
+                  "|Kya|/Cy: LONGITUDINAL_STIFFNESS, LATERAL_STIFFNESS, PCFX*, PCFY*)"}
+        lines.append(f"relaxation lengths at FNOMIN from {source[relaxation_source(tyre)]}: "
+                     f"sigma_kappa {sigma[0]:.3f} m, sigma_alpha {sigma[1]:.3f} m (the car uses "
+                     "them with tyres.slip.relaxation_lengths_from_file, at its wheel load at "
+                     "rest)")
+    else:
+        lines.append("relaxation lengths: none in the file (the car uses tyres.slip's)")
     lines.append("coefficients defaulted (absent from the file; 0, scaling factors 1, PKY4 2, "
                  f"QSY7 1): {', '.join(tyre.defaulted) if tyre.defaulted else 'none'}")
     if tyre.RBX1 == 0.0 or tyre.RBY1 == 0.0:
