@@ -206,3 +206,41 @@ def test_tyre_command_reports_mf6_relaxation_lengths(tmp_path):
     assert (f"from the carcass stiffnesses (Kx/Cx, |Kya|/Cy: LONGITUDINAL_STIFFNESS, "
             f"LATERAL_STIFFNESS, PCFX*, PCFY*): sigma_kappa {sigma[0]:.3f} m, sigma_alpha "
             f"{sigma[1]:.3f} m") in summary
+
+
+@pytest.mark.parametrize("name,warned", [("HMMWV_Pac02Tire.tir", True),
+                                         ("Generic_Pac02Tire.tir", True),
+                                         ("Sedan_Pac02Tire.tir", False),
+                                         ("mf_185_80R14.tir", False),
+                                         ("MagicFormula61_Parameters.tir", False)])
+def test_a_tyre_for_a_heavier_vehicle_is_named_against_the_car_s_wheel_loads(name, warned):
+    """Chrono's HMMWV and Generic files (FNOMIN 35 kN, FZMIN..FZMAX 1750..78750 N) take the car's
+    3-4 kN wheels inside their range but at 0.07-0.11 FNOMIN: one line names both; the passenger
+    tyres (0.34-0.98 FNOMIN) pass silently."""
+    from drake_car.law.tyre.plausibility import FIT_LOAD_BAND, wheel_load_note
+    from drake_car.model.geometry import design_axle_loads_N
+    from drake_car.model.parameters import CarParameters
+    tyre = MagicFormulaTyre.from_file(DATA / name)
+    loads = {k: v / 2 for k, v in design_axle_loads_N(CarParameters()).items()}
+    note = wheel_load_note(tyre, loads)
+    assert (note is not None) == warned
+    assert warned == any(not FIT_LOAD_BAND[0] <= load / tyre.FNOMIN <= FIT_LOAD_BAND[1]
+                         for load in loads.values())
+    if warned:
+        assert "\n" not in note
+        for text in (name, f"FNOMIN {tyre.FNOMIN:g} N", f"{tyre.FZMIN:g}..{tyre.FZMAX:g} N",
+                     f"{loads['front']:.0f} N front", f"{loads['rear']:.0f} N rear"):
+            assert text in note, text
+
+
+def test_the_car_on_a_heavier_vehicle_s_tyre_is_built_with_one_warning(caplog, monkeypatch):
+    from drake_car.scene.load import load_scene
+    from drake_car.sim import build
+    monkeypatch.setattr(build, "_NOTED", set())
+    scene = load_scene(Path(__file__).parents[1] / "scenes" / "car.yaml", child="straight",
+                       scene_text=f"tyres: !MagicFormula {{tir_file: {DATA / 'HMMWV_Pac02Tire.tir'}}}")
+    with caplog.at_level("WARNING", logger="drake_car.sim.build"):
+        build.build_diagram(scene)
+        build.build_diagram(scene)
+    notes = [r.getMessage() for r in caplog.records if "FNOMIN 35000 N" in r.getMessage()]
+    assert len(notes) == 1 and "valid for 1750..78750 N" in notes[0], notes
