@@ -17,6 +17,7 @@ from drake_car.law.tyre.magic_formula import (
     relaxation_lengths_m,
     relaxation_source,
 )
+from drake_car.results.files import write_csv, write_text
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -34,13 +35,27 @@ def _range(low, high, limit, n):
     return np.linspace(max(low, -limit), min(high, limit), n)
 
 
+def _slips(tyre):
+    """The sweeps' κ (±0.3) and α (±15°), inside the file's ranges."""
+    return (_range(tyre.KPUMIN, tyre.KPUMAX, 0.3, 121),
+            _range(tyre.ALPMIN, tyre.ALPMAX, math.radians(15.0), 121))
+
+
+def peak_mu(tyre, fz):
+    """(μx, μy) at load ``fz``: max |Fx|/Fz of the pure longitudinal sweep and max |Fy|/Fz of
+    the pure lateral sweep, zero camber (the curves' sweeps)."""
+    kappas, alphas = _slips(tyre)
+    mux = max(abs(magic_formula(tyre, fz, k, 0.0, 0.0, tyre.LONGVL).fx) for k in kappas)
+    muy = max(abs(magic_formula(tyre, fz, 0.0, a, 0.0, tyre.LONGVL).fy) for a in alphas)
+    return mux / fz, muy / fz
+
+
 def curves(tyre):
     """{"case": [...], COLUMNS...}: pure slip (``pure_long``, ``pure_lat``; ``lat_camber`` at
     γ = 3° or the file's CAMMAX) at every load, and ``combined`` (κ swept at α = 2, 5, 8°) at
     every load."""
     rows = []
-    kappas = _range(tyre.KPUMIN, tyre.KPUMAX, 0.3, 121)
-    alphas = _range(tyre.ALPMIN, tyre.ALPMAX, math.radians(15.0), 121)
+    kappas, alphas = _slips(tyre)
     camber = min(CAMBER_RAD, tyre.CAMMAX)
     for fz in loads_N(tyre):
         sweeps = [("pure_long", k, 0.0, 0.0) for k in kappas]
@@ -66,7 +81,7 @@ def stiffness_against_load(tyre, n=40):
             np.array([f.cornering_stiffness for f in forces]))
 
 
-def summary(tyre, table):
+def summary(tyre):
     """The summary's text: format read, peak μ, stiffnesses at FNOMIN, defaults, warnings."""
     lines = [f"tyre property file: {tyre.name}",
              f"format: {tyre.form} ({tyre.format_note}); TYRESIDE {tyre.side} (curves as the "
@@ -77,12 +92,9 @@ def summary(tyre, table):
              f"gamma {tyre.CAMMIN:g}..{tyre.CAMMAX:g} rad"]
     if tyre.form in ("MF 6.1", "MF 6.2"):
         lines.append(f"inflation pressure: {tyre.P_RATIO:g} x NOMPRES (dpi = {tyre.DPI:g})")
-    case = np.array(table["case"])
     lines.append("peak friction (max |F|/Fz in the pure sweeps):")
     for fz in loads_N(tyre):
-        at = table["fz_N"] == fz
-        mux = np.max(np.abs(table["fx_N"][at & (case == "pure_long")])) / fz
-        muy = np.max(np.abs(table["fy_N"][at & (case == "pure_lat")])) / fz
+        mux, muy = peak_mu(tyre, fz)
         lines.append(f"  Fz = {fz:7.0f} N: mu_x {mux:.3f}, mu_y {muy:.3f}")
     f = magic_formula(tyre, tyre.FNOMIN, 0.0, 0.0, 0.0, tyre.LONGVL)
     lines.append(f"at FNOMIN: slip stiffness Kx {f.slip_stiffness:.4g} N "
@@ -162,3 +174,14 @@ def figures(tyre, table, out):
     _save(fig, out / "stiffness_load.png")
     return ["fy_alpha.png", "mz_alpha.png", "fx_kappa.png", "friction_ellipse.png",
             "stiffness_load.png"]
+
+
+def write(tyre, out):
+    """``curves.csv``, ``summary.txt`` and the figures of ``tyre`` into the folder ``out`` (the
+    tyre command's files; the handling study's ``tyre/``). Returns (summary text, figure
+    names)."""
+    table = curves(tyre)
+    text = summary(tyre)
+    write_csv(out / "curves.csv", table)
+    write_text(out / "summary.txt", text)
+    return text, figures(tyre, table, out)
