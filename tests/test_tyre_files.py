@@ -244,3 +244,36 @@ def test_the_car_on_a_heavier_vehicle_s_tyre_is_built_with_one_warning(caplog, m
         build.build_diagram(scene)
     notes = [r.getMessage() for r in caplog.records if "FNOMIN 35000 N" in r.getMessage()]
     assert len(notes) == 1 and "valid for 1750..78750 N" in notes[0], notes
+
+
+def test_vertical_stiffness_and_damping_from_the_file():
+    """tyres.vertical_from_file sets car.tyre's radial spring and damper to the file's
+    VERTICAL_STIFFNESS and VERTICAL_DAMPING where the scene is loaded (MF 6.x: times
+    1 + PFZ1 dpi); the saved scene loads back to the same; the tyre system runs with them."""
+    from drake_car.law.tyre.contact import vertical_from_file
+    from drake_car.scene.load import SceneError, dump_scene_file, load_scene, load_scene_text
+    from drake_car.sim.build import build_diagram
+    mf61 = DATA / "MagicFormula61_Parameters.tir"
+    plus20 = MagicFormulaTyre.from_file(mf61, pressure_Pa=1.2 * 260000)
+    assert vertical_from_file(plus20) == pytest.approx((314931.2969 * (1 + 0.88241 * 0.2), 500.0),
+                                                       rel=1e-12)
+    assert vertical_from_file(MagicFormulaTyre.from_file(mf61)) == (314931.2969, 500.0)
+
+    def scene(text):
+        return load_scene(Path(__file__).parents[1] / "scenes" / "car.yaml", child="straight",
+                          scene_text=text)
+    sedan = scene(f"{{tyres: !MagicFormula {{tir_file: {DATA / 'Sedan_Pac02Tire.tir'}, "
+                  "vertical_from_file: true}}")
+    assert (sedan.car.tyre.radial_stiffness_Npm, sedan.car.tyre.radial_damping_Nspm) == (
+        280835.2941, 2000.0)  # the file's, as written
+    assert load_scene_text(dump_scene_file(sedan), "saved").car == sedan.car
+    radial = build_diagram(sedan).tyre.radial_tyre
+    assert (radial.radial_stiffness_Npm, radial.radial_damping_Nspm) == (280835.2941, 2000.0)
+    with pytest.raises(SceneError, match=r"car\.tyre\.radial_stiffness_Npm = 200000.0 has no "
+                                         r"effect with tyres\.vertical_from_file"):
+        scene(f"{{car: {{tyre: {{radial_stiffness_Npm: 2.0e5}}}}, tyres: !MagicFormula "
+              f"{{tir_file: {DATA / 'Sedan_Pac02Tire.tir'}, vertical_from_file: true}}}}")
+    with pytest.raises(SceneError, match=r"tyres\.vertical_from_file .*pacejka2006_205_60R15"
+                                         r"\.tir has no VERTICAL_STIFFNESS and no "
+                                         r"VERTICAL_DAMPING"):
+        scene("{tyres: !MagicFormula {vertical_from_file: true}}")

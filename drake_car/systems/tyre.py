@@ -220,6 +220,11 @@ class TyreSystem(LeafSystem):
         return Propeller(self._appliers)
 
     @property
+    def radial_tyre(self):
+        """The radial spring and damper the system runs with (``law.tyre.contact.RadialTyre``)."""
+        return self._tyre
+
+    @property
     def slip(self):
         """The slip options the system runs with (``law.tyre.slip.SlipOptions``)."""
         return self._slip

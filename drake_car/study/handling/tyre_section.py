@@ -57,7 +57,10 @@ def facts(scene):
             "relaxation_source": relaxation_source(tyre),
             "defaulted": list(tyre.defaulted), "warnings": list(tyre.warnings),
             "load_note": wheel_load_note(tyre, loads), "shipped": is_shipped(scene),
-            "no_combined_fit": tyre.RBX1 == 0.0 or tyre.RBY1 == 0.0}
+            "no_combined_fit": tyre.RBX1 == 0.0 or tyre.RBY1 == 0.0,
+            "radial_stiffness_Npm": scene.car.tyre.radial_stiffness_Npm,
+            "radial_damping_Nspm": scene.car.tyre.radial_damping_Nspm,
+            "vertical_from_file": scene.tyres.vertical_from_file}
 
 
 def write(out, scene):
@@ -68,19 +71,26 @@ def write(out, scene):
 
 def shipped_scenes(scenes):
     """The same scenes on the shipped tyre file, and a note when a setting had to change with
-    it (the shipped file has no relaxation data: its run takes tyres.slip's lengths)."""
-    out, note = {}, None
+    it (the shipped file has no relaxation data: its run takes tyres.slip's lengths; nor
+    vertical data: the runs keep this file's radial spring, already in car.tyre)."""
+    out, notes = {}, set()
     for name, scene in scenes.items():
         tyres = dataclasses.replace(scene.tyres, tir_file=DEFAULT_TIR)
+        if tyres.vertical_from_file:  # the scene's car.tyre already holds this file's values
+            tyres = dataclasses.replace(tyres, vertical_from_file=False)
+            notes.add("the radial stiffness and damping stay this tyre file's "
+                      f"({scene.car.tyre.radial_stiffness_Npm:g} N/m, "
+                      f"{scene.car.tyre.radial_damping_Nspm:g} N s/m), so only the Magic "
+                      "Formula changes")
         if tyres.slip.relaxation and tyres.slip.relaxation_lengths_from_file and (
                 relaxation_source(tyre_of(dataclasses.replace(scene, tyres=tyres))) is None):
             tyres = dataclasses.replace(tyres, slip=dataclasses.replace(
                 tyres.slip, relaxation_lengths_from_file=False))
-            note = ("the shipped tyre has no relaxation data: its runs take tyres.slip's "
-                    f"lengths ({tyres.slip.relaxation_length_long_m:g} m, "
-                    f"{tyres.slip.relaxation_length_lat_m:g} m)")
+            notes.add("the shipped tyre has no relaxation data: its runs take tyres.slip's "
+                      f"lengths ({tyres.slip.relaxation_length_long_m:g} m, "
+                      f"{tyres.slip.relaxation_length_lat_m:g} m)")
         out[name] = dataclasses.replace(scene, tyres=tyres)
-    return out, note
+    return out, "; ".join(sorted(notes)) or None
 
 
 # (label, path in the analysis' result, unit) of what the comparison shows.
@@ -183,7 +193,11 @@ def section(result):
         + (" RBX1 or RBY1 is 0 (the file has no combined-slip fit): Fx and Fy do not weaken "
            "each other in combined slip (the budget's drive terms shrink with it)."
            if t["no_combined_fit"] else "")
-        + "".join(f" Plausibility: {w}." for w in t["warnings"]), "",
+        + "".join(f" Plausibility: {w}." for w in t["warnings"])
+        + f" Radial spring and damper: {t['radial_stiffness_Npm']:g} N/m, "
+        f"{t['radial_damping_Nspm']:g} N s/m ("
+        + ("the file's VERTICAL_STIFFNESS and VERTICAL_DAMPING: tyres.vertical_from_file"
+           if t["vertical_from_file"] else "car.tyre's") + ").", "",
         "Curves, figures and summary as `python -m drake_car.tyre` writes them: "
         "`tyre/curves.csv`, `tyre/summary.txt`, "
         + ", ".join(f"[`tyre/{name}`](tyre/{name}) ({caption})"
