@@ -1,5 +1,6 @@
 """A tyre's steady-state curves, the figures an engineer looks at first, and a summary, from
-its Magic Formula (``law.tyre.magic_formula``) as the property file's format defines it.
+its Magic Formula (``law.tyre.magic_formula``) as the property file's format defines it;
+``write`` puts them in a folder (the tyre command's, the handling study's ``tyre/``).
 
 Signs ISO-W (the .tir's own axes: Fx > 0 driving, Fy < 0 for α > 0 with PKY1 < 0, Mz about the
 upward z), the tyre as the file holds it (its TYRESIDE, unmirrored), speed LONGVL, inputs inside
