@@ -50,8 +50,7 @@ from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 # they trigger are inside them).
 SYSTEMS = {
     "tyres and driveshafts": (TyreSystem, ("_update",)),
-    "strut friction": (StrutFriction, ("_update",)),
-    "strut friction's PD gains": (StrutFriction, ("_write_gains",)),
+    "strut friction and its PD gains": (StrutFriction, ("_update",)),
     "divergence monitor": (Monitor, ("check",)),
     "logged channels": (CarChannels, ("_calc_chassis", "_calc_steering", "_calc_struts",
                                       "_calc_energy", "_calc_top_mounts")),
