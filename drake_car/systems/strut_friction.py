@@ -66,9 +66,9 @@ Two numerical schemes (``scheme``):
     Drake keeps PD gains and effort limits in the *model*, not in the context. This system owns
     them for its actuators: its update (and its initialization event) writes the values it has
     just computed into the actuators, the one side effect of an update here (a per-step publish
-    event did it before, at the cost of one more Python crossing per step, ~20 µs on the car:
-    the plant's step is an unrestricted update and has read the gains before this update
-    runs, and it reads them next at the following step, so the two are the same), and a
+    event did it before, one more Python call per step; the same numbers bit for bit: the
+    plant's step is an unrestricted update and has read the gains before this update runs,
+    and it reads them next at the following step), and a
     forced publish writes them from a context (``sim.branch``, continuing a cloned context).
     A simulation depends only on its context; a stale value from a previous run is overwritten
     before the first step. Do not share the plant of a fast-scheme diagram between simulators
