@@ -81,9 +81,18 @@ def whole_diagram(scene, t0, span, *, column_form="reflected"):
 
 
 def plant_alone(scene, runner, span):
+    """(wall, CPU) seconds of ``plant_alone_simulator`` advanced ``span`` simulated seconds."""
+    simulator = plant_alone_simulator(scene, runner)
+    began = _clocks()
+    simulator.AdvanceTo(simulator.get_context().get_time() + span)
+    return _since(began)
+
+
+def plant_alone_simulator(scene, runner):
     """The same plant (the hands-off column in the form ``runner`` built) with its inputs held
     by C++ constant sources at ``runner``'s values, every actuator's PD gains and effort limit
-    as the whole Diagram last wrote them."""
+    as the whole Diagram last wrote them: an initialized Simulator at ``runner``'s time and
+    state."""
     full, root = runner.built, runner.root
     pc = full.plant.GetMyContextFromRoot(root)
     builder = DiagramBuilder()
@@ -133,9 +142,7 @@ def plant_alone(scene, runner, span):
     plant.SetPositionsAndVelocities(plant.GetMyMutableContextFromRoot(context),
                                     full.plant.GetPositionsAndVelocities(pc))
     simulator.Initialize()
-    began = _clocks()
-    simulator.AdvanceTo(root.get_time() + span)
-    return _since(began)
+    return simulator
 
 
 def callback_split(scene, t0, span, steps):
