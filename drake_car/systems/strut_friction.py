@@ -68,12 +68,12 @@ Two numerical schemes (``scheme``):
     just computed into the actuators, the one side effect of an update here (a per-step publish
     event did it before, one more Python call per step; the same numbers bit for bit: the
     plant's step is an unrestricted update and has read the gains before this update runs,
-    and it reads them next at the following step), and a
-    forced publish writes them from a context (``sim.branch``, continuing a cloned context).
-    A simulation depends only on its context; a stale value from a previous run is overwritten
-    before the first step. Do not share the plant of a fast-scheme diagram between simulators
-    running at the same time, and do not compute this system's update for a context the
-    simulation does not continue (the actuators would hold that context's gains).
+    and it reads them next at the following step), and a forced publish writes them from a
+    context (``sim.branch``, continuing a cloned context). A simulation depends only on its
+    context; a stale value from a previous run is overwritten before the first step. Do not
+    share the plant of a fast-scheme diagram between simulators running at the same time, and
+    do not compute this system's update for a context the simulation does not continue (the
+    actuators would hold that context's gains until its next step).
 
 Normal force (eq. 4) comes from the reaction of the strut's ``normal_force_joint`` (Drake's
 ``reaction_forces`` output: force and moment on the joint's child at its frame Jc, in Jc). The
