@@ -50,8 +50,7 @@ from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 # they trigger are inside them).
 SYSTEMS = {
     "tyres and driveshafts": (TyreSystem, ("_update",)),
-    "strut friction": (StrutFriction, ("_update",)),
-    "strut friction's PD gains": (StrutFriction, ("_write_gains",)),
+    "strut friction and its PD gains": (StrutFriction, ("_update",)),
     "divergence monitor": (Monitor, ("check",)),
     "logged channels": (CarChannels, ("_calc_chassis", "_calc_steering", "_calc_struts",
                                       "_calc_energy", "_calc_top_mounts")),
@@ -82,9 +81,18 @@ def whole_diagram(scene, t0, span, *, column_form="reflected"):
 
 
 def plant_alone(scene, runner, span):
+    """(wall, CPU) seconds of ``plant_alone_simulator`` advanced ``span`` simulated seconds."""
+    simulator = plant_alone_simulator(scene, runner)
+    began = _clocks()
+    simulator.AdvanceTo(simulator.get_context().get_time() + span)
+    return _since(began)
+
+
+def plant_alone_simulator(scene, runner):
     """The same plant (the hands-off column in the form ``runner`` built) with its inputs held
     by C++ constant sources at ``runner``'s values, every actuator's PD gains and effort limit
-    as the whole Diagram last wrote them."""
+    as the whole Diagram last wrote them: an initialized Simulator at ``runner``'s time and
+    state."""
     full, root = runner.built, runner.root
     pc = full.plant.GetMyContextFromRoot(root)
     builder = DiagramBuilder()
@@ -134,9 +142,7 @@ def plant_alone(scene, runner, span):
     plant.SetPositionsAndVelocities(plant.GetMyMutableContextFromRoot(context),
                                     full.plant.GetPositionsAndVelocities(pc))
     simulator.Initialize()
-    began = _clocks()
-    simulator.AdvanceTo(root.get_time() + span)
-    return _since(began)
+    return simulator
 
 
 def callback_split(scene, t0, span, steps):

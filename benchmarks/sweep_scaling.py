@@ -12,10 +12,12 @@ The static equilibria the runs start from are settled on every worker before the
 be shared: the load average and the cores other processes kept busy during each phase (the
 machine's busy CPU time less this benchmark's processes', per second) are printed beside, with
 "busy", the share of the workers' time spent in runs (the rest is the sweep's own overhead:
-waiting for the scheduler and the parent), which other load does not change.
+waiting for the scheduler and the parent), which other load does not change. On each cluster,
+after the sweep, --empty_tasks tasks that do nothing are mapped and gathered as the sweep's are:
+their wall per task is the scheduler's (and the client's) own cost of a task, with no run in it.
 
   python benchmarks/sweep_scaling.py [--runs 12] [--end_s 2.0] [--workers 1,2]
-                                     [--equilibrium_in_runs] [--out DIR]
+                                     [--equilibrium_in_runs] [--empty_tasks 200] [--out DIR]
 """
 
 import argparse
@@ -81,7 +83,22 @@ def cpu_s():
     return machine, tree, c.user + c.system
 
 
-def phase(todo, workers, *, warm):
+def nothing(i):
+    """A task that does nothing (the scheduler's own cost per task)."""
+    return i
+
+
+def empty_tasks_ms(client, n):
+    """Wall ms per task of ``n`` tasks that do nothing, mapped and gathered on ``client``
+    (distinct keys, as the sweep's: nothing is reused)."""
+    if n <= 0:
+        return None
+    began = time.perf_counter()
+    client.gather(client.map(nothing, range(n), pure=False))
+    return 1e3 * (time.perf_counter() - began) / n
+
+
+def phase(todo, workers, *, warm, empty_tasks=0):
     """One sweep of ``todo`` on a fresh local cluster of ``workers``: its figures."""
     began = time.perf_counter()
     with local_cluster(workers) as cluster, Client(cluster, set_as_default=False) as client:
@@ -97,6 +114,7 @@ def phase(todo, workers, *, warm):
             summary = run_sweep(todo, out, client=client, progress=False)
             tasks = [read_status(p)["wall_s"] for p in (Path(out) / "runs").iterdir()]
         machine, tree, parent = (b - a for a, b in zip(before, cpu_s()))
+        empty_ms = empty_tasks_ms(client, empty_tasks)
     wall = summary["wall_s"]
     if summary["failed"]:
         raise SystemExit(f"{summary['failed']} runs failed")
@@ -108,7 +126,8 @@ def phase(todo, workers, *, warm):
             "cluster_start_s": started, "load_average_1min_at_start": load,
             "parent_cores_busy": parent / wall, "others_cores_busy": others,
             # the cores the workers could have had: theirs, less what others took
-            "free_cores": max(0.05, min(workers, cores() - others))}
+            "free_cores": max(0.05, min(workers, cores() - others)),
+            "empty_task_ms": empty_ms}
 
 
 def main():
@@ -123,26 +142,34 @@ def main():
                    help="rounds over the worker counts; medians are compared (default: 1)")
     p.add_argument("--equilibrium_in_runs", action="store_true",
                    help="time each run's static equilibrium too (default: settled before)")
+    p.add_argument("--empty_tasks", type=int, default=200,
+                   help="tasks that do nothing, timed on each cluster after its sweep: the "
+                        "scheduler's cost per task (0: none; default: %(default)s)")
     p.add_argument("--out", type=Path, default=None, help="also write results.json here")
     args = p.parse_args()
     counts = [int(w) for w in args.workers.split(",")]
-    if args.runs < 1 or not 0 < args.end_s <= 10 or min(counts) < 1 or args.repeats < 1:
-        p.error("--runs >= 1, 0 < --end_s <= 10, --workers >= 1 each, --repeats >= 1")
+    if (args.runs < 1 or not 0 < args.end_s <= 10 or min(counts) < 1 or args.repeats < 1
+            or not 0 <= args.empty_tasks <= 100000):
+        p.error("--runs >= 1, 0 < --end_s <= 10, --workers >= 1 each, --repeats >= 1, "
+                "0 <= --empty_tasks <= 100000")
     todo = scenes(args.runs, args.end_s, apart=args.equilibrium_in_runs)
     print(f"{cores()} cores; load average {' '.join(f'{x:.2f}' for x in os.getloadavg())} "
           f"before; {args.runs} runs of {args.end_s:g} s, static equilibria "
           + ("settled in each run" if args.equilibrium_in_runs else "settled beforehand"))
-    print("workers  runs  wall_s  runs/s  task_s  busy  start_s  load  parent  others' cores")
+    print("workers  runs  wall_s  runs/s  task_s  busy  start_s  load  parent  others' cores"
+          "  empty task ms")
     phases = []
     for _ in range(args.repeats):
         for n in counts:
-            r = phase(todo, n, warm=not args.equilibrium_in_runs)
+            r = phase(todo, n, warm=not args.equilibrium_in_runs,
+                      empty_tasks=args.empty_tasks)
             phases.append(r)
             print(f"{n:7d}  {r['runs']:4d}  {r['wall_s']:6.1f}  {r['runs_per_s']:6.3f}  "
                   f"{r['mean_task_s']:6.2f}  {r['workers_busy']:4.2f}  "
                   f"{r['cluster_start_s']:7.1f}  "
                   f"{r['load_average_1min_at_start']:4.2f}  {r['parent_cores_busy']:6.2f}  "
-                  f"{r['others_cores_busy']:13.2f}")
+                  f"{r['others_cores_busy']:13.2f}  "
+                  + (f"{r['empty_task_ms']:13.2f}" if r["empty_task_ms"] is not None else ""))
     summary = {}
     for n in counts:
         mine = [r for r in phases if r["workers"] == n]

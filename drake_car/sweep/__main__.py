@@ -45,7 +45,7 @@ from drake_car.scene.load import SceneError, load_scene, load_scene_file, parse_
 from drake_car.scene.scene import MeshcatLive
 from drake_car.sim.simulate import estimate_wall_s
 from drake_car.sweep.store import check_sweep_folder, read_sweep_log
-from drake_car.sweep.runner import cores, dask_client, missing, run_sweep
+from drake_car.sweep.runner import cores, dask_client, jobs_of, missing, run_sweep
 from drake_car.sweep.scheduler import SCHEDULER_ADDRESS
 
 GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0.2)"
@@ -80,7 +80,8 @@ def main(argv=None):
         if isinstance(scene.visualization, MeshcatLive):
             raise SceneError(f"scene {name}: visualization = !MeshcatLive: a sweep's runs are "
                              "not watched; use !MeshcatReplay (replay.html) or leave it out")
-    todo = missing(scenes, args.out, rerun_failed=args.rerun_failed)
+    jobs = jobs_of(scenes)  # each run's key, once
+    todo = missing(scenes, args.out, rerun_failed=args.rerun_failed, jobs=jobs)
     print(f"{len(scenes)} scenes: {len(todo)} runs to do", file=sys.stderr)
     began = time.perf_counter()
     with contextlib.ExitStack() as stack:
@@ -106,7 +107,7 @@ def main(argv=None):
                  "rerun_failed": args.rerun_failed, "scenes": {}, "summary": None}
         log = _log_invocation(args.out, entry)
         summary = run_sweep(scenes, args.out, client=client, progress=not args.quiet,
-                            rerun_failed=args.rerun_failed)
+                            rerun_failed=args.rerun_failed, jobs=jobs)
     wall = time.perf_counter() - began
     entry["scenes"] = summary["hashes"]
     entry["summary"] = {k: summary[k] for k in ("ok", "failed", "reused")} | {"wall_s": wall}

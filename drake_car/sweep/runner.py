@@ -290,11 +290,13 @@ def failure(name, record, error=None):
     return e
 
 
-def missing(scenes, out_dir, *, rerun_failed=False):
+def missing(scenes, out_dir, *, rerun_failed=False, jobs=None):
     """The Jobs of ``scenes`` to run: those ``out_dir`` has no run folder for, or one that
-    failed of kind ``INFRASTRUCTURE_FAILURE``, or (``rerun_failed``) any failed one."""
+    failed of kind ``INFRASTRUCTURE_FAILURE``, or (``rerun_failed``) any failed one.
+    ``jobs``: ``jobs_of(scenes)`` when the caller has them (a run's key costs ~8 ms: its
+    scene dumped to YAML)."""
     runs = Path(out_dir) / "runs"
-    jobs = jobs_of(scenes)
+    jobs = jobs if jobs is not None else jobs_of(scenes)
     todo = []
     for job in jobs.values():
         record = read_status(runs / job.hash)
@@ -318,16 +320,17 @@ def kept(record, *, rerun_failed=False):
 
 
 def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=None,
-              progress=True, rerun_failed=False) -> dict:
+              progress=True, rerun_failed=False, jobs=None) -> dict:
     """Runs every scene of ``scenes`` (name -> Scene) that ``out_dir`` lacks, writing each
     result as it completes (see the module). On ``client``, else on the cluster at
     ``scheduler``, else on a local cluster of ``workers`` (default: one per core, at most one
-    per run). Returns {"ok", "failed", "reused": counts, "wall_s", "status": hash -> ok|failed,
-    "hashes": name -> hash}."""
+    per run). ``jobs``: ``jobs_of(scenes)`` when the caller has them. Returns {"ok",
+    "failed", "reused": counts, "wall_s", "status": hash -> ok|failed, "hashes": name ->
+    hash}."""
     began = time.perf_counter()
     out = Path(out_dir)
     runs = out / "runs"
-    jobs = jobs_of(scenes)
+    jobs = jobs if jobs is not None else jobs_of(scenes)
     check_layout(out)
     runs.mkdir(parents=True, exist_ok=True)
     counts = {"ok": 0, "failed": 0, "reused": 0}
@@ -344,7 +347,7 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
         try:
             remove_stale(runs)
             rebuild_index(out)
-            todo = missing(scenes, out, rerun_failed=rerun_failed)
+            todo = missing(scenes, out, rerun_failed=rerun_failed, jobs=jobs)
             for key in jobs.keys() - {job.hash for job in todo}:
                 status[key] = read_status(runs / key)["status"]
             counts["reused"] = len(status)
@@ -374,7 +377,7 @@ def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
         return {}
     if out_dir is not None:
         run_sweep(scenes, out_dir, client=client, scheduler=scheduler, workers=workers,
-                  progress=progress)
+                  progress=progress, jobs=jobs)
         results = {key: load_run(out_dir, key) for key in jobs}
     else:
         def keep(job, record, result):

@@ -60,15 +60,20 @@ Two numerical schemes (``scheme``):
     reactions of that step), advances the creep memory to it and computes, in the same call,
     everything the next step needs: the feed-forward actuation, the PD targets, the gains and
     the diagnostics. They are discrete state, and the output ports are state output ports (no
-    Python runs when the plant reads them). The per-step publish then writes the gains into the
-    actuators; at the next step the plant reads the outputs. One Python call computes a step;
-    the publish only copies numbers.
+    Python runs when the plant reads them). The same call writes the gains into the actuators;
+    at the next step the plant reads the outputs. One Python call per step.
 
     Drake keeps PD gains and effort limits in the *model*, not in the context. This system owns
-    them for its actuators: a per-step publish event (and an initialization event) writes the
-    values computed from the context into the actuators, so a simulation depends only on its
+    them for its actuators: its update (and its initialization event) writes the values it has
+    just computed into the actuators, the one side effect of an update here (a per-step publish
+    event did it before, one more Python call per step; the same numbers bit for bit: the
+    plant's step is an unrestricted update and has read the gains before this update runs,
+    and it reads them next at the following step), and a forced publish writes them from a
+    context (``sim.branch``, continuing a cloned context). A simulation depends only on its
     context; a stale value from a previous run is overwritten before the first step. Do not
-    share the plant of a fast-scheme diagram between simulators running at the same time.
+    share the plant of a fast-scheme diagram between simulators running at the same time, and
+    do not compute this system's update for a context the simulation does not continue (the
+    actuators would hold that context's gains until its next step).
 
 Normal force (eq. 4) comes from the reaction of the strut's ``normal_force_joint`` (Drake's
 ``reaction_forces`` output: force and moment on the joint's child at its frame Jc, in Jc). The
@@ -230,8 +235,6 @@ class StrutFriction(LeafSystem):
         if scheme == "fast":
             self._desired_port = self.DeclareStateOutputPort("desired_state", self._desired)
             self._gains = PdControllerGains(p=1.0, d=1.0)  # reused for every write
-            self.DeclareInitializationPublishEvent(self._write_gains)
-            self.DeclarePerStepPublishEvent(self._write_gains)
             self.DeclareForcedPublishEvent(self._write_gains)
         self._diagnostics_port = self.DeclareStateOutputPort("diagnostics", self._diagnostics)
 
@@ -280,7 +283,8 @@ class StrutFriction(LeafSystem):
     def _compute(self, context, discrete_state, x, t, initial):
         """Advances the creep memory (in ``discrete_state``) to the plant state ``x`` and
         computes the friction, the fast scheme's PD targets and gains, and the diagnostics,
-        into ``discrete_state`` (``law.friction.compiled.friction_step``)."""
+        into ``discrete_state`` (``law.friction.compiled.friction_step``); writes the gains
+        into the actuators (the plant's next step reads them there)."""
         reactions = self._no_reactions
         if self._reaction_port is not None:
             forces = self._reaction_port.Eval(context)
@@ -301,9 +305,16 @@ class StrutFriction(LeafSystem):
                 f"{self._name}: overlap d = {overlap:.4g} m <= 0 at t = {t:.4f} s"
                 f"{' on strut ' + strut.label if strut.label else ''}"
                 " (the rod has left the cylinder's guide)")
+        if fast:
+            self._set_gains(value(self._gain_values))
 
     def _write_gains(self, context):
-        values = context.get_discrete_state(self._gain_values).get_value().tolist()
+        """The forced publish: the gains of ``context`` into the actuators."""
+        self._set_gains(context.get_discrete_state(self._gain_values).get_value())
+
+    def _set_gains(self, gain_values):
+        """[Kp..., Kd..., effort limit...] into the pairs' actuators."""
+        values = gain_values.tolist()
         n = len(self._actuators)
         gains = self._gains
         for i, actuator in enumerate(self._actuators):
