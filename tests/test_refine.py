@@ -210,3 +210,22 @@ def test_a_claim_is_undecided_when_its_margin_is_within_the_error():
         assert five["decided"] is decided, (five["margin"], five["error"])
     # At one step only: no error, so not decided either way (None).
     assert claim_measures(at_one_step(base), roles)[4][0]["decided"] is None
+
+
+def test_a_run_that_fails_is_refined_no_further_and_the_others_go_on():
+    # A simulator that loses the jammed run from 0.25 ms on (it raised there): the loop must
+    # not ask for it again and again, must refine the others, and must say which failed.
+    class Losing(Simulator):
+        def __call__(self, scenes):
+            done = super().__call__(scenes)
+            return {n: r for n, r in done.items()
+                    if not (n.startswith("jam") and r.scene.plant.time_step < 4e-4)}
+    sim = Losing()
+    found = refine(scenes(), outcomes_of, {"x": 0.1, "pair": 0.1}, sim, halve=fake_halve,
+                   finest_step_s=1e-5)
+    assert found.failed == ["jam"]
+    assert len(sim.batches) == 1  # nothing left to refine: the smooth run converged
+    assert found.steps_s["jam"] == [1e-3, 5e-4]
+    row = found.outcomes[("jam", "x")]
+    assert row["converged"] is False and row["values"] == [6.7, 6.7]  # two steps: not judged
+    assert "failed" in found.stopped
