@@ -155,10 +155,19 @@ CASES = [
     ("a truck's tyre on the car", run_command.main,
      lambda t: scene_text(tyre(TYRE_DATA / "335_65R22_5_G275MSA_60psi.tir")),
      "is valid for wheel loads 10752..30578 N"),
-    ("relaxation lengths from an MF 6.1 file", run_command.main,
-     lambda t: scene_text(f"tyres: !MagicFormula {{tir_file: {TYRE_DATA}/MagicFormula61_"
-                          "Parameters.tir, slip: {relaxation_lengths_from_file: true}}"),
-     "MagicFormula61_Parameters.tir (MF 6.1) has no PTX*/PTY* relaxation coefficients"),
+    ("relaxation lengths from an MF 6.1 file without its carcass stiffness", run_command.main,
+     lambda t: scene_text(f"tyres: !MagicFormula {{tir_file: "
+                          f"{tir_file(t, MF61.replace('LATERAL_STIFFNESS', '$'))}, "
+                          "slip: {relaxation_lengths_from_file: true}}"),
+     "bad.tir (MF 6.1) has no relaxation data (PAC2002: PTX*/PTY*; MF 6.x: "
+     "LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS)"),
+    ("vertical stiffness from a file without it", run_command.main,
+     lambda t: scene_text("tyres: !MagicFormula {vertical_from_file: true}"),
+     "tyres.vertical_from_file = True needs them: "),
+    ("a tyre value the file's vertical data override", run_command.main,
+     lambda t: scene_text(f"car: {{tyre: {{radial_damping_Nspm: 300.0}}}}\ntyres: !MagicFormula "
+                          f"{{tir_file: {TYRE_DATA}/Sedan_Pac02Tire.tir, vertical_from_file: true}}"),
+     "car.tyre.radial_damping_Nspm = 300.0 has no effect with tyres.vertical_from_file"),
     ("tyre command: unsupported format", tyre_command.main,
      lambda t: ["--tir", tir_file(t, SEDAN.replace("'PAC2002'", "'FTIRE'"))],
      "bad.tir: PROPERTY_FILE_FORMAT 'FTIRE' is a tyre model drake_car does not implement"),

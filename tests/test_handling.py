@@ -3,6 +3,7 @@ answers; the understeer budget on a short real ramp (its terms sum to the measur
 the named ones within 10 %); the cross-check against CommonRoad's multi-body model runs and
 keeps its signs; the handling experiment end to end on a short timeline."""
 
+import dataclasses
 import json
 import math
 import os
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 from drake_car.data import resource
-from drake_car.law.tyre.magic_formula import MagicFormulaTyre
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre, magic_formula
 from drake_car.model.geometry import whole_car_cog_to_front_m
 from drake_car.model.loading import tir_path
 from drake_car.scene.load import load_scene
@@ -256,3 +257,70 @@ def test_handling_experiment_end_to_end(tmp_path):
     if crosscheck.available()[0]:
         assert (out / "crosscheck" / "crosscheck_ramp.png").stat().st_size > 0
         assert "CommonRoad MB" in report
+
+
+SEDAN_TIR = ROOT / "tests" / "data" / "tyres" / "Sedan_Pac02Tire.tir"
+
+
+def test_the_shipped_tyre_s_scenes_differ_only_in_the_tyre_file():
+    from pydrake.common.yaml import yaml_dump_typed
+
+    from drake_car.scene.load import load_scene_file
+    from drake_car.scene.scene import DEFAULT_TIR, Scene
+    from drake_car.study.handling import tyre_section
+    scenes = load_scene_file(resource("scenes/handling.yaml"),
+                             f"{{tyres: !MagicFormula {{tir_file: {SEDAN_TIR}, "
+                             "slip: {relaxation_lengths_from_file: true}}}")
+    assert not tyre_section.is_shipped(scenes["steady_state"])
+    shipped, note = tyre_section.shipped_scenes(scenes)
+    for name, scene in shipped.items():
+        assert tyre_section.is_shipped(scene)
+        assert scene.tyres.tir_file == DEFAULT_TIR
+        # The book's file has no relaxation data: the shipped runs take tyres.slip's lengths.
+        assert not scene.tyres.slip.relaxation_lengths_from_file
+        back = dataclasses.replace(scene, tyres=scenes[name].tyres)
+        assert yaml_dump_typed(back, schema=Scene) == yaml_dump_typed(scenes[name], schema=Scene)
+    assert "no relaxation data" in note and "0.15 m, 0.45 m" in note
+
+
+@pytest.mark.slow
+def test_handling_on_a_chrono_tyre_reports_the_tyre_and_what_changed(tmp_path):
+    """The handling command on Chrono's sedan tyre (PAC2002): its tyre's files and section, the
+    shipped tyre's runs and the comparison, whose numbers are the analysis' own."""
+    scenes = tmp_path / "short.yaml"
+    scenes.write_text(SHORT_SCENES)
+    out = tmp_path / "sedan"
+    result = subprocess.run(
+        [sys.executable, "-m", "drake_car.commands.handling", "--out", str(out), "--scene",
+         str(scenes), "--ay_range", "0.5,2.5", "--no_crosscheck", "--scene_text",
+         f"{{tyres: !MagicFormula {{tir_file: {SEDAN_TIR}}}}}"],
+        cwd=ROOT, capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr[-3000:]
+    for name in ("tyre/curves.csv", "tyre/summary.txt", "tyre/fy_alpha.png",
+                 "tyre/stiffness_load.png", "shipped_tyre/steady_state/history.csv",
+                 "shipped_tyre/step_steer/scene.yaml"):
+        assert (out / name).stat().st_size > 0, name
+    assert "pacejka2006_205_60R15.tir" in (out / "shipped_tyre/steady_state/scene.yaml").read_text()
+    assert "Sedan_Pac02Tire.tir" in (out / "steady_state/scene.yaml").read_text()
+    report = (out / "report.md").read_text()
+    assert "## The tyre the car runs on" in report and "**PAC2002**" in report
+    assert "## What changed against the shipped tyre" in report
+    summary = json.loads((out / "summary.json").read_text())
+    tyre, rows = summary["tyre"], {r["quantity"]: r for r in summary["tyre_change"]["rows"]}
+    ss = summary["steady_state"]
+    # "this tyre" is this run's analysis; the single track's C_f is two tyres at the static
+    # front wheel load of the tyre section.
+    k = rows["understeer gradient, δ from the rack"]
+    assert k["this"] == ss["metrics"]["understeer_gradient_deg_per_g"]
+    assert k["difference"] == pytest.approx(k["this"] - k["shipped"], abs=1e-12)
+    c_f = rows["single track: front axle C_f"]["this"]
+    assert c_f == pytest.approx(-2 * tyre["at"]["front"]["cornering_stiffness_N_per_rad"],
+                                rel=1e-12)
+    sedan = MagicFormulaTyre.from_file(SEDAN_TIR)
+    assert rows["single track: front axle C_f"]["shipped"] == pytest.approx(
+        -2 * magic_formula(TYRE, tyre["at"]["front"]["fz_N"], 0, 0, 0, 16.7).cornering_stiffness,
+        rel=1e-12)
+    assert tyre["at"]["FNOMIN"]["fz_N"] == sedan.FNOMIN
+    assert tyre["load_note"] is None and not tyre["shipped"]
+    for r in rows.values():
+        assert r["shipped"] is None or math.isfinite(r["shipped"]), r

@@ -143,3 +143,137 @@ def test_tyre_command_writes_curves_figures_and_summary(tmp_path):
     for text in ("format: PAC2002", "mu_y", "cornering stiffness", "coefficients defaulted",
                  "RCX1", "relaxation lengths"):
         assert text in summary, text
+
+
+@pytest.mark.parametrize("name", ["MagicFormula61_Parameters.tir", "MagicFormula62_Parameters.tir"])
+def test_mf6_relaxation_lengths_from_the_carcass_stiffness(name):
+    """σκ = Kxκ/Cx, σα = |Kyα|/Cy (MF-Tyre 6.1's transient model), by hand from the file's own
+    numbers: FNOMIN 6752, NOMPRES 260000, LONGITUDINAL_STIFFNESS 391219.8116,
+    LATERAL_STIFFNESS 189871.776, PCFX1..3 0.14171 -0.16104 0.21776, PCFY1..3 -0.2334
+    0.068881 0.69715, PKX1..3 32.9102 12.7911 -0.11254, PPX1..2 -0.8733 0.7035, PKY1 -28.3155,
+    PKY2 3.313, PKY4 2.7364, PPY1..2 0.34039 1.1056 (every scaling factor 1)."""
+    from drake_car.law.tyre.magic_formula import relaxation_lengths_m, relaxation_source
+    fz0, cx0, cy0 = 6752.0, 391219.8116, 189871.776
+
+    def by_hand(fz, dpi):
+        dfz = (fz - fz0) / fz0
+        kx = (fz * (32.9102 + 12.7911 * dfz) * math.exp(-0.11254 * dfz)
+              * (1 - 0.8733 * dpi + 0.7035 * dpi ** 2))
+        ky = (28.3155 * fz0 * (1 + 0.34039 * dpi)
+              * math.sin(2.7364 * math.atan(fz / (3.313 * (1 + 1.1056 * dpi) * fz0))))
+        cx = cx0 * (1 + 0.14171 * dfz - 0.16104 * dfz ** 2) * (1 + 0.21776 * dpi)
+        cy = cy0 * (1 - 0.2334 * dfz + 0.068881 * dfz ** 2) * (1 + 0.69715 * dpi)
+        return kx / cx, ky / cy
+
+    nominal = MagicFormulaTyre.from_file(DATA / name)
+    plus20 = MagicFormulaTyre.from_file(DATA / name, pressure_Pa=1.2 * 260000)
+    assert relaxation_source(nominal) == "carcass"
+    for tyre, dpi in ((nominal, 0.0), (plus20, 0.2)):
+        for fz in (fz0, 3500.0, 9000.0):
+            got = relaxation_lengths_m(tyre, fz)
+            # the same arithmetic in another order: round-off only
+            assert got == pytest.approx(by_hand(fz, dpi), rel=1e-12), (fz, dpi)
+    # At FNOMIN and NOMPRES the carcass terms are 1: sigma_kappa = PKX1 FNOMIN / Cx0.
+    assert relaxation_lengths_m(nominal, fz0)[0] == pytest.approx(32.9102 * fz0 / cx0,
+                                                                  rel=1e-12)
+
+
+def test_relaxation_lengths_from_the_file_reach_the_tyre_system():
+    """The car on the MF 6.1 file with tyres.slip.relaxation_lengths_from_file: its tyre system
+    relaxes with the file's lengths at the car's wheel load at rest."""
+    from drake_car.law.tyre.magic_formula import relaxation_lengths_m
+    from drake_car.scene.load import load_scene
+    from drake_car.sim.build import build_diagram
+    scene = load_scene(Path(__file__).parents[1] / "scenes" / "car.yaml", child="straight",
+                       scene_text=f"tyres: !MagicFormula {{tir_file: {DATA / 'MagicFormula61_'}"
+                                  "Parameters.tir, slip: {relaxation_lengths_from_file: true}}")
+    built = build_diagram(scene)
+    weight = built.plant.CalcTotalMass(built.plant.CreateDefaultContext()) * 9.81
+    tyre = MagicFormulaTyre.from_file(DATA / "MagicFormula61_Parameters.tir")
+    expected = relaxation_lengths_m(tyre, weight / 4)
+    slip = built.tyre.slip
+    assert (slip.relaxation_length_long_m, slip.relaxation_length_lat_m) == expected
+    assert 0.1 < expected[0] < expected[1] < 1.0  # a passenger tyre's order (Pacejka 2006)
+
+
+def test_tyre_command_reports_mf6_relaxation_lengths(tmp_path):
+    from drake_car.law.tyre.magic_formula import relaxation_lengths_m
+    from drake_car.tyre.__main__ import main
+    main(["--tir", str(DATA / "MagicFormula61_Parameters.tir"), "--out", str(tmp_path / "t")])
+    summary = (tmp_path / "t" / "summary.txt").read_text()
+    sigma = relaxation_lengths_m(MagicFormulaTyre.from_file(
+        DATA / "MagicFormula61_Parameters.tir"), 6752.0)
+    assert (f"from the carcass stiffnesses (Kx/Cx, |Kya|/Cy: LONGITUDINAL_STIFFNESS, "
+            f"LATERAL_STIFFNESS, PCFX*, PCFY*): sigma_kappa {sigma[0]:.3f} m, sigma_alpha "
+            f"{sigma[1]:.3f} m") in summary
+
+
+@pytest.mark.parametrize("name,warned", [("HMMWV_Pac02Tire.tir", True),
+                                         ("Generic_Pac02Tire.tir", True),
+                                         ("Sedan_Pac02Tire.tir", False),
+                                         ("mf_185_80R14.tir", False),
+                                         ("MagicFormula61_Parameters.tir", False)])
+def test_a_tyre_for_a_heavier_vehicle_is_named_against_the_car_s_wheel_loads(name, warned):
+    """Chrono's HMMWV and Generic files (FNOMIN 35 kN, FZMIN..FZMAX 1750..78750 N) take the car's
+    3-4 kN wheels inside their range but at 0.07-0.11 FNOMIN: one line names both; the passenger
+    tyres (0.34-0.98 FNOMIN) pass silently."""
+    from drake_car.law.tyre.plausibility import FIT_LOAD_BAND, wheel_load_note
+    from drake_car.model.geometry import design_axle_loads_N
+    from drake_car.model.parameters import CarParameters
+    tyre = MagicFormulaTyre.from_file(DATA / name)
+    loads = {k: v / 2 for k, v in design_axle_loads_N(CarParameters()).items()}
+    note = wheel_load_note(tyre, loads)
+    assert (note is not None) == warned
+    assert warned == any(not FIT_LOAD_BAND[0] <= load / tyre.FNOMIN <= FIT_LOAD_BAND[1]
+                         for load in loads.values())
+    if warned:
+        assert "\n" not in note
+        for text in (name, f"FNOMIN {tyre.FNOMIN:g} N", f"{tyre.FZMIN:g}..{tyre.FZMAX:g} N",
+                     f"{loads['front']:.0f} N front", f"{loads['rear']:.0f} N rear"):
+            assert text in note, text
+
+
+def test_the_car_on_a_heavier_vehicle_s_tyre_is_built_with_one_warning(caplog, monkeypatch):
+    from drake_car.scene.load import load_scene
+    from drake_car.sim import build
+    monkeypatch.setattr(build, "_NOTED", set())
+    scene = load_scene(Path(__file__).parents[1] / "scenes" / "car.yaml", child="straight",
+                       scene_text=f"tyres: !MagicFormula {{tir_file: {DATA / 'HMMWV_Pac02Tire.tir'}}}")
+    with caplog.at_level("WARNING", logger="drake_car.sim.build"):
+        build.build_diagram(scene)
+        build.build_diagram(scene)
+    notes = [r.getMessage() for r in caplog.records if "FNOMIN 35000 N" in r.getMessage()]
+    assert len(notes) == 1 and "valid for 1750..78750 N" in notes[0], notes
+
+
+def test_vertical_stiffness_and_damping_from_the_file():
+    """tyres.vertical_from_file sets car.tyre's radial spring and damper to the file's
+    VERTICAL_STIFFNESS and VERTICAL_DAMPING where the scene is loaded (MF 6.x: times
+    1 + PFZ1 dpi); the saved scene loads back to the same; the tyre system runs with them."""
+    from drake_car.law.tyre.contact import vertical_from_file
+    from drake_car.scene.load import SceneError, dump_scene_file, load_scene, load_scene_text
+    from drake_car.sim.build import build_diagram
+    mf61 = DATA / "MagicFormula61_Parameters.tir"
+    plus20 = MagicFormulaTyre.from_file(mf61, pressure_Pa=1.2 * 260000)
+    assert vertical_from_file(plus20) == pytest.approx((314931.2969 * (1 + 0.88241 * 0.2), 500.0),
+                                                       rel=1e-12)
+    assert vertical_from_file(MagicFormulaTyre.from_file(mf61)) == (314931.2969, 500.0)
+
+    def scene(text):
+        return load_scene(Path(__file__).parents[1] / "scenes" / "car.yaml", child="straight",
+                          scene_text=text)
+    sedan = scene(f"{{tyres: !MagicFormula {{tir_file: {DATA / 'Sedan_Pac02Tire.tir'}, "
+                  "vertical_from_file: true}}")
+    assert (sedan.car.tyre.radial_stiffness_Npm, sedan.car.tyre.radial_damping_Nspm) == (
+        280835.2941, 2000.0)  # the file's, as written
+    assert load_scene_text(dump_scene_file(sedan), "saved").car == sedan.car
+    radial = build_diagram(sedan).tyre.radial_tyre
+    assert (radial.radial_stiffness_Npm, radial.radial_damping_Nspm) == (280835.2941, 2000.0)
+    with pytest.raises(SceneError, match=r"car\.tyre\.radial_stiffness_Npm = 200000.0 has no "
+                                         r"effect with tyres\.vertical_from_file"):
+        scene(f"{{car: {{tyre: {{radial_stiffness_Npm: 2.0e5}}}}, tyres: !MagicFormula "
+              f"{{tir_file: {DATA / 'Sedan_Pac02Tire.tir'}, vertical_from_file: true}}}}")
+    with pytest.raises(SceneError, match=r"tyres\.vertical_from_file .*pacejka2006_205_60R15"
+                                         r"\.tir has no VERTICAL_STIFFNESS and no "
+                                         r"VERTICAL_DAMPING"):
+        scene("{tyres: !MagicFormula {vertical_from_file: true}}")

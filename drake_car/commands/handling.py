@@ -13,9 +13,14 @@ continuous ramp steer at 60 km/h; step_steer: ISO 7401 step steer at 60 km/h). W
                   road-wheel steer at our speed: ramp.csv, step.csv, crosscheck.json,
                   crosscheck_ramp.png, crosscheck_step.png
   steering.csv    the rack-to-road-wheel relation (chassis fixed) the understeer gradient uses
+  tyre/           the tyre the car runs on, as python -m drake_car.tyre writes it (curves.csv,
+                  summary.txt, its figures); the report's tyre section
+  shipped_tyre/   on a tyre other than the shipped one: both tests again on the shipped tyre
+                  (their runs); the report's table says what changed (understeer, yaw gain, ...)
   summary.json, report.md, diagram.svg
 
---scene_text is laid over both scenes (e.g. "drive: !PrescribedRotation {}"); --ay_range is the
+--scene_text is laid over both scenes (e.g. "drive: !PrescribedRotation {}", or another tyre:
+"{tyres: !MagicFormula {tir_file: FILE}}"); --ay_range is the
 linear range the gradients are fitted over. The cross-check needs the test extra
 commonroad-vehicle-models; without it (or with --no_crosscheck) it is left out and the report
 says so.
@@ -23,6 +28,8 @@ says so.
 Example:  python experiments/handling.py --out results/handling
           python experiments/handling.py --out results/handling_locked \\
               --scene_text "drive: !PrescribedRotation {}"
+          python experiments/handling.py --out results/handling_sedan --scene_text \\
+              "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
 """
 
 import argparse
@@ -65,6 +72,9 @@ def main(argv=None):
                         "(default: 0.5,3.0)")
     p.add_argument("--no_crosscheck", action="store_true",
                    help="leave out the cross-check against CommonRoad's model")
+    p.add_argument("--no_shipped_comparison", action="store_true",
+                   help="on a tyre other than the shipped one, do not run the tests again on "
+                        "the shipped tyre (the report then says nothing of what changed)")
     args = p.parse_args(argv)
     cli.check_out(args)
     scenes = load_scene_file(args.scene, args.scene_text or None)
@@ -73,16 +83,27 @@ def main(argv=None):
     began = time.perf_counter()
     with output_folder(args.out) as out:
         try:
-            runs, result, walls = handling_study(scenes, args.ay_range, crosscheck_why=why)
+            runs, result, walls = handling_study(
+                scenes, args.ay_range, crosscheck_why=why,
+                shipped_why=("left out (--no_shipped_comparison)"
+                             if args.no_shipped_comparison else None))
         except HandlingError as e:
             raise StudyError(f"{args.scene}: {e}") from None
-        write_outputs(out, runs, result)
+        write_outputs(out, runs, result, scenes["steady_state"])
         result["wall_s"] = {"total": time.perf_counter() - began} | walls
         result["provenance"] = provenance()
         write_json(out / "summary.json", summary(result))
         write_text(out / "report.md", report(result))
     ss = result["steady_state"]["metrics"]
-    print(f"understeer {ss['understeer_gradient_deg_per_g']:.2f} deg/g, roll "
+    change = {r["quantity"]: r for r in result.get("tyre_change", {}).get("rows", [])}
+    against = ""
+    if change:
+        k = change["understeer gradient, δ from the rack"]
+        r = change["steady-state yaw-rate gain dr/dδ (rack)"]
+        against = (f" (shipped tyre: {k['shipped']:.2f} deg/g, yaw gain {r['shipped']:.3f} "
+                   f"against {r['this']:.3f} 1/s)")
+    print(f"tyre {result['tyre']['file']} ({result['tyre']['form']}): understeer "
+          f"{ss['understeer_gradient_deg_per_g']:.2f} deg/g{against}, roll "
           f"{ss['roll_gradient_deg_per_g']:.2f} deg/g, yaw gain "
           f"{result['steady_state']['yaw_gain_ratio']:.3f} of the single-track model; wrote "
           f"{args.out} (report: {args.out / 'report.md'})")

@@ -24,6 +24,7 @@ from drake_car.scene.guard import (
     read_yaml_file)
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene, default_plant_config
+from drake_car.scene.vertical import resolve_vertical
 
 # Every channel group a scene can log.
 CHANNEL_GROUPS = ("chassis", "steering", "struts", "tyres", "friction", "energy", "top_mounts",
@@ -174,6 +175,7 @@ def check_scene(scene: Scene, where="scene") -> Scene:
                 checked(value, section)
         _check_plant(scene.plant)
         _check_cross(scene)
+        scene = resolve_vertical(scene)
     except ParameterError as e:
         raise SceneError(f"{where}: {e}") from None
     announce_large_road(scene, where)

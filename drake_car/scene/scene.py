@@ -78,11 +78,16 @@ def _check_slip(slip: SlipOptions):
 @dataclasses.dataclass
 class TirTyre:
     """What the tyres read from a property file share (not loadable itself): the file
-    ``tir_file`` (a path, or a name in the package's ``urdf/`` data such as the default) and
-    the slip options (relaxation lengths, low-speed damping)."""
+    ``tir_file`` (a path, or a name in the package's ``urdf/`` data such as the default), the
+    slip options (relaxation lengths, low-speed damping) and whether the radial spring and
+    damper are the file's (``vertical_from_file``)."""
 
     tir_file: str = DEFAULT_TIR
     slip: SlipOptions = dataclasses.field(default_factory=SlipOptions)
+    # Take the radial stiffness and damping from the file's VERTICAL_STIFFNESS and
+    # VERTICAL_DAMPING instead of car.tyre's (set into car.tyre where the scene is loaded:
+    # ``scene.vertical``); the unloaded radius stays the car's (its geometry).
+    vertical_from_file: bool = False
 
     def check(self):
         _check_slip(self.slip)

@@ -3,6 +3,7 @@ the scene calls for (build order as Drake's hardware_sim: plant and parser, actu
 systems and wiring, loggers, visualiser, Build)."""
 
 import dataclasses
+import logging
 
 from pydrake.common.value import AbstractValue
 from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
@@ -12,10 +13,12 @@ from pydrake.systems.primitives import (
 
 from drake_car.law.tyre.magic_formula import MagicFormulaTyre, relaxation_lengths_m
 from drake_car.law.tyre.contact import RadialTyre
+from drake_car.law.tyre.plausibility import wheel_load_note
 from drake_car.model.anti_roll_bar import anti_roll_bar_gain, time_step_limit_s
 from drake_car.model.car import add_car
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import add_drive_actuators
+from drake_car.model.geometry import design_axle_loads_N
 from drake_car.model.loading import tir_path
 from drake_car.model.steering import add_steering_column, column_strut, release_schedule
 from drake_car.model.struts import (
@@ -30,6 +33,10 @@ from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 from drake_car.systems.tyre import TyreSystem
+
+
+log = logging.getLogger(__name__)
+_NOTED = set()  # tyre files whose load note was logged (once per file and car per process)
 
 
 class BuildError(ValueError):
@@ -211,9 +218,10 @@ def check_stability(scene):
             "friction.scheme: fast")
 
 
-def _check_tyre_load_range(tyre, plant):
+def _check_tyre_load_range(tyre, plant, car_parameters):
     """The car's wheel load at rest (its weight over four wheels) must lie inside the tyre
-    file's FZMIN..FZMAX: a tyre fitted for another vehicle (a truck's) is refused, naming both."""
+    file's FZMIN..FZMAX: a tyre fitted for another vehicle (a truck's) is refused, naming both.
+    Inside them but far from FNOMIN (``plausibility.wheel_load_note``): a warning, once."""
     weight_N = plant.CalcTotalMass(plant.CreateDefaultContext()) * 9.81
     wheel_N = weight_N / 4.0
     if not tyre.FZMIN <= wheel_N <= tyre.FZMAX:
@@ -222,6 +230,11 @@ def _check_tyre_load_range(tyre, plant):
             f"{tyre.FZMAX:g} N (FNOMIN {tyre.FNOMIN:g} N); this car rests on about "
             f"{wheel_N:.0f} N per wheel ({weight_N:.0f} N over four) and runs at about "
             f"0..{2 * wheel_N:.0f} N in a lane change: a tyre for a heavier vehicle")
+    note = wheel_load_note(tyre, {axle: load / 2 for axle, load
+                                  in design_axle_loads_N(car_parameters).items()})
+    if note and (note not in _NOTED):
+        _NOTED.add(note)
+        log.warning("tyres.tir_file: %s", note)
     return wheel_N
 
 
@@ -231,12 +244,13 @@ def _add_tyres(builder, plant, car, scene, driveshafts):
     slip = getattr(tyres, "slip", None)
     if isinstance(tyres, (MagicFormula, LinearTyre)):
         magic = MagicFormulaTyre.from_file(tir_path(tyres.tir_file))
-        wheel_N = _check_tyre_load_range(magic, plant)
+        wheel_N = _check_tyre_load_range(magic, plant, scene.car)
         if slip is not None and slip.relaxation and slip.relaxation_lengths_from_file:
             sigma = relaxation_lengths_m(magic, wheel_N)
             if sigma is None:
                 raise BuildError(f"tyres.slip.relaxation_lengths_from_file: {magic.name} "
-                                 f"({magic.form}) has no PTX*/PTY* relaxation coefficients")
+                                 f"({magic.form}) has no relaxation data (PAC2002: PTX*/PTY*; "
+                                 "MF 6.x: LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS)")
             slip = dataclasses.replace(slip, relaxation_length_long_m=sigma[0],
                                        relaxation_length_lat_m=sigma[1])
     v = scene.car.tyre

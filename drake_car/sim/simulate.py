@@ -140,7 +140,8 @@ class Runner:
                                instance=self.built.car.instance, road=Road(
                                    self.built.tyre, scene.car.tyre.radial_stiffness_Npm,
                                    scene.road.flat_up_to_m(), self.built.car.body("chassis"),
-                                   scene.simulator.airborne_limit_s))
+                                   scene.simulator.airborne_limit_s,
+                                   tuple(self.built.car.wheel_bodies()[w] for w in WHEELS)))
         self.progress = progress
         self.wall_s = 0.0
         self.cpu_s = 0.0

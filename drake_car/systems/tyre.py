@@ -219,6 +219,16 @@ class TyreSystem(LeafSystem):
         ``spatial_forces`` output to the plant's applied spatial forces."""
         return Propeller(self._appliers)
 
+    @property
+    def radial_tyre(self):
+        """The radial spring and damper the system runs with (``law.tyre.contact.RadialTyre``)."""
+        return self._tyre
+
+    @property
+    def slip(self):
+        """The slip options the system runs with (``law.tyre.slip.SlipOptions``)."""
+        return self._slip
+
     def connect(self, builder, plant):
         """Connects this system's inputs to ``plant``'s outputs."""
         if self._state_port is not None:

@@ -21,7 +21,6 @@ import sys
 from drake_car import cli
 from drake_car.law.tyre.magic_formula import MagicFormulaTyre
 from drake_car.model.loading import tir_path
-from drake_car.results.files import write_csv, write_text
 from drake_car.results.folder import output_folder
 from drake_car.study.handling import tyre_curves
 
@@ -34,12 +33,8 @@ def main(argv=None):
                    help="inflation pressure (MF 6.x files; default the file's INFLPRES)")
     args = p.parse_args(argv)
     tyre = MagicFormulaTyre.from_file(tir_path(args.tir), pressure_Pa=args.pressure_Pa)
-    table = tyre_curves.curves(tyre)
-    text = tyre_curves.summary(tyre, table)
     with output_folder(args.out) as out:
-        write_csv(out / "curves.csv", table)
-        write_text(out / "summary.txt", text)
-        tyre_curves.figures(tyre, table, out)
+        text, _ = tyre_curves.write(tyre, out)
     print(text + f"wrote {args.out}", file=sys.stderr)
 
 

@@ -25,6 +25,24 @@ class RadialTyre:
             raise ValueError(f"tyre radial_damping_Nspm = {self.radial_damping_Nspm} must be >= 0")
 
 
+def vertical_from_file(tyre):
+    """(radial stiffness N/m, radial damping N s/m) of a tyre property file (a
+    ``magic_formula.MagicFormulaTyre``): VERTICAL_STIFFNESS and VERTICAL_DAMPING, the stiffness
+    of an MF 6.x file times (1 + PFZ1 dpi) at its pressure (the MF-Tyre 6.1 vertical stiffness's
+    pressure term; Pacejka and Besselink 2012, appendix 3, eq. A3.5 as TyreDyn cites it; PFZ1
+    absent: 0). Raises ValueError naming the file and the key it lacks."""
+    missing = [k for k in ("VERTICAL_STIFFNESS", "VERTICAL_DAMPING") if not hasattr(tyre, k)]
+    if missing:
+        raise ValueError(f"{tyre.name} has no {' and no '.join(missing)}")
+    stiffness = tyre.VERTICAL_STIFFNESS
+    if tyre.form in ("MF 6.1", "MF 6.2"):
+        stiffness *= 1.0 + getattr(tyre, "PFZ1", 0.0) * tyre.DPI
+    if not (stiffness > 0 and tyre.VERTICAL_DAMPING >= 0):
+        raise ValueError(f"{tyre.name}: VERTICAL_STIFFNESS {stiffness:g} N/m must be > 0 and "
+                         f"VERTICAL_DAMPING {tyre.VERTICAL_DAMPING:g} N s/m >= 0")
+    return stiffness, tyre.VERTICAL_DAMPING
+
+
 def contact_point(centre, spin_axis, radius, road_height):
     """Lowest point of the wheel circle and the tyre's deflection there.
 

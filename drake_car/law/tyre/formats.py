@@ -62,6 +62,12 @@ BASIC = ("UNLOADED_RADIUS", "FNOMIN", "LONGVL")
 BOOK_REQUIRED = BASIC + tuple(k for k in _COMMON + ("PHY3",) if k not in ("PKY4",))
 # The validity ranges of a file ([..._RANGE] sections) and the inflation pressure.
 RANGES = ("FZMIN", "FZMAX", "KPUMIN", "KPUMAX", "ALPMIN", "ALPMAX", "CAMMIN", "CAMMAX")
+# MF 6.x's carcass stiffnesses (N/m) and their load and pressure terms: its relaxation lengths
+# (``magic_formula.relaxation_lengths_m``); kept when the file gives them.
+CARCASS = ("LONGITUDINAL_STIFFNESS", "LATERAL_STIFFNESS") + _names("PCFX1-3 PCFY1-3")
+# The vertical spring and damper (MF 6.x: the stiffness's pressure term PFZ1), kept when given
+# (``contact.vertical_from_file``).
+VERTICAL = ("VERTICAL_STIFFNESS", "VERTICAL_DAMPING", "PFZ1")
 # Named formats drake_car does not evaluate, refused by name.
 _FORMAT_NAMES = {"PAC2002": PAC2002, "MF_2006_BOOK": BOOK, "MF_61": MF61, "MF61": MF61,
                  "MF6.1": MF61, "MF_62": MF62, "MF62": MF62, "MF6.2": MF62}
@@ -113,7 +119,7 @@ def effective(values, form, name, where):
         else:
             out[key] = 2.0 if key == "PKY4" else (1.0 if key in ALL_SCALING else
                                                  (1.0 if key == "QSY7" else 0.0))
-    for key in BASIC + RANGES + ("INFLPRES", "NOMPRES", "LMUV"):
+    for key in BASIC + RANGES + CARCASS + VERTICAL + ("INFLPRES", "NOMPRES", "LMUV"):
         if key in values:
             out[key] = values[key]
     for key, value in out.items():

@@ -321,17 +321,47 @@ def linear_tyre(t: MagicFormulaTyre, fz, kappa, alpha, gamma, vx):
 
 
 def relaxation_lengths_m(tyre, fz):
-    """PAC2002's relaxation lengths (σκ, σα) in m from the file's PTX*, PTY* at load ``fz`` and
-    zero camber, or None when the file has none: σκ = Fz (PTX1 + PTX2 dfz) exp(-PTX3 dfz)
-    R0/Fz0 LSGKP, σα = PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0 LFZO LSGAL (the forms of
-    OpenTirePython's PAC2002, MIT; not checked against the MSC Adams manual)."""
-    if tyre.form != "PAC2002" or not (tyre.PTX1 or tyre.PTY1):
+    """The file's own relaxation lengths (σκ, σα) in m at load ``fz``, zero slip and camber,
+    or None when the file has none (``relaxation_source`` says which).
+
+    PAC2002, from PTX*, PTY*: σκ = Fz (PTX1 + PTX2 dfz) exp(-PTX3 dfz) R0/Fz0 LSGKP,
+    σα = PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0 LFZO LSGAL (the forms of OpenTirePython's
+    PAC2002, MIT; not checked against the MSC Adams manual).
+
+    MF 6.1/6.2, which have no PTX*/PTY*, from the carcass stiffnesses: σκ = |Kxκ| / Cx,
+    σα = |Kyα| / Cy with Cx = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz + PCFX2 dfz²)
+    (1 + PCFX3 dpi), Cy = LATERAL_STIFFNESS (1 + PCFY1 dfz + PCFY2 dfz²)(1 + PCFY3 dpi) and
+    Kxκ, Kyα this Magic Formula's slip and cornering stiffness at the same load and pressure
+    (MF-Tyre 6.1's transient model; Pacejka and Besselink, 3rd ed. 2012, appendix 3, eqs.
+    A3.9-A3.10 as TyreDyn's relaxation and stiffness modules cite them; not checked against
+    the book's page). PCF* a file omits count as 0."""
+    source = relaxation_source(tyre)
+    if source is None:
         return None
     fz0 = tyre.FNOMIN * tyre.LFZO
     dfz = (fz - fz0) / fz0
+    if source == "carcass":
+        f = magic_formula(tyre, fz, 0.0, 0.0, 0.0, tyre.LONGVL, combined=False)
+        def carcass(key, axis):
+            p1, p2, p3 = (getattr(tyre, f"PCF{axis}{i}", 0.0) for i in (1, 2, 3))
+            return getattr(tyre, key) * (1.0 + p1 * dfz + p2 * dfz * dfz) * (1.0 + p3 * tyre.DPI)
+        c_x, c_y = carcass("LONGITUDINAL_STIFFNESS", "X"), carcass("LATERAL_STIFFNESS", "Y")
+        return abs(f.slip_stiffness) / c_x, abs(f.cornering_stiffness) / c_y
     r0 = tyre.UNLOADED_RADIUS
     sigma_kappa = (fz * (tyre.PTX1 + tyre.PTX2 * dfz) * math.exp(-tyre.PTX3 * dfz)
                    * (r0 / tyre.FNOMIN) * tyre.LSGKP)
     sigma_alpha = (tyre.PTY1 * math.sin(2.0 * math.atan(fz / (tyre.PTY2 * fz0))) * r0
                    * tyre.LFZO * tyre.LSGAL)
     return sigma_kappa, sigma_alpha
+
+
+def relaxation_source(tyre):
+    """Where a tyre's relaxation lengths come from: "PTX/PTY" (PAC2002 with PTX1 or PTY1),
+    "carcass" (MF 6.x with LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS > 0), or None."""
+    if tyre.form == formats.PAC2002:
+        return "PTX/PTY" if (tyre.PTX1 or tyre.PTY1) else None
+    if tyre.form in (formats.MF61, formats.MF62):
+        if (getattr(tyre, "LONGITUDINAL_STIFFNESS", 0.0) > 0
+                and getattr(tyre, "LATERAL_STIFFNESS", 0.0) > 0):
+            return "carcass"
+    return None

@@ -71,3 +71,25 @@ def check_forces(tyre, magic_formula):
                     raise TirFileError(f"{tyre.name}: {text}")
                 warnings.append(text + " -- inside the file's load range")
     return tuple(warnings)
+
+
+# [EST] The loads a tyre's fit rests on: tyre test programmes measure at about 0.25 to 2 times
+# the nominal load (the tyre command's curves span 0.5-2 FNOMIN); a car whose wheels rest
+# outside that band runs on the fit's load dependence extrapolated, whatever FZMIN..FZMAX say.
+FIT_LOAD_BAND = (0.25, 2.0)
+
+
+def wheel_load_note(tyre, wheel_loads_N):
+    """One line when a static wheel load of the car (``wheel_loads_N``: {"front": N, "rear": N}
+    per wheel) lies outside ``FIT_LOAD_BAND`` x FNOMIN -- the file's FZMIN..FZMAX and FNOMIN
+    against the car's loads -- else None. (Loads outside FZMIN..FZMAX are refused where the
+    car is built.)"""
+    low, high = (r * tyre.FNOMIN for r in FIT_LOAD_BAND)
+    if all(low <= load <= high for load in wheel_loads_N.values()):
+        return None
+    loads = ", ".join(f"{load:.0f} N {axle} ({load / tyre.FNOMIN:.2f} FNOMIN)"
+                      for axle, load in wheel_loads_N.items())
+    return (f"{tyre.name}: FNOMIN {tyre.FNOMIN:g} N, valid for {tyre.FZMIN:g}..{tyre.FZMAX:g} N; "
+            f"this car's static wheel loads are {loads}, outside the {FIT_LOAD_BAND[0]:g}.."
+            f"{FIT_LOAD_BAND[1]:g} FNOMIN a fit is measured over [EST]: a tyre for another "
+            "vehicle, its forces here extrapolate the fit's load dependence")

@@ -57,6 +57,7 @@ _DIMENSIONS = {
     "LONGVL": {_L: 1, _T: -1}, "VXLOW": {_L: 1, _T: -1},
     "VERTICAL_STIFFNESS": {_F: 1, _L: -1}, "VERTICAL_DAMPING": {_F: 1, _T: 1, _L: -1},
     "BOTTOM_STIFF": {_F: 1, _L: -1},
+    "LONGITUDINAL_STIFFNESS": {_F: 1, _L: -1}, "LATERAL_STIFFNESS": {_F: 1, _L: -1},
     "MASS": {_M: 1}, "IXX": {_M: 1, _L: 2}, "IYY": {_M: 1, _L: 2},
     "BELT_MASS": {_M: 1}, "BELT_IXX": {_M: 1, _L: 2}, "BELT_IYY": {_M: 1, _L: 2},
 }

@@ -1,23 +1,24 @@
 """The handling study's analysis: the two scenes it needs (ISO 4138 ramp steer, ISO 7401 step
 steer), their runs' metrics, the single-track model built from the car's own parameters, the
 understeer budget (``understeer``) and the cross-check against CommonRoad's multi-body model of
-the same car (``crosscheck``). ``handling_study(scenes, fit_range)`` runs and analyses both."""
+the same car (``crosscheck``), the tyre it runs on and what changed against the shipped tyre
+(``tyre_section``). ``handling_study(scenes, fit_range)`` runs and analyses both."""
 
 import logging
 import time
 
 import numpy as np
 
-from drake_car.law.tyre.magic_formula import MagicFormulaTyre
 from drake_car.model.geometry import design_axle_loads_N, whole_car_cog_to_front_m
 from drake_car.model.kinematics_sweep import run_kinematics_sweep
-from drake_car.model.loading import tir_path
 from drake_car.scene.load import SceneError
 from drake_car.scene.manoeuvres import RampSteer, StepSteer
 from drake_car.scene.scene import LinearTyre, MagicFormula
 from drake_car.sim.simulate import simulate
 from drake_car.study.handling import crosscheck
 from drake_car.study.handling import measures as handling
+from drake_car.study.handling import tyre_section
+from drake_car.study.handling.tyre_section import tyre_of
 from drake_car.study.handling.understeer import understeer_budget
 
 log = logging.getLogger(__name__)
@@ -39,6 +40,10 @@ def check_scenes(scenes, path):
         if not isinstance(scene.tyres, (MagicFormula, LinearTyre)):
             raise SceneError(f"{path} [{name}]: tyres must be !MagicFormula or !LinearTyre "
                              "(the tests need lateral forces)")
+        first = scenes[next(iter(ENTRIES))].tyres.tir_file
+        if scene.tyres.tir_file != first:
+            raise SceneError(f"{path} [{name}]: tyres.tir_file {scene.tyres.tir_file} differs "
+                             f"from the other test's {first}: both tests run on one tyre")
         missing = {"chassis", "steering", "tyres"} - set(
             scene.logging.channels or ("chassis", "steering", "tyres"))
         if missing:
@@ -46,10 +51,13 @@ def check_scenes(scenes, path):
                              f"{', '.join(sorted(missing))}")
 
 
-def handling_study(scenes, fit_range, *, crosscheck_why=None, progress=True):
+def handling_study(scenes, fit_range, *, crosscheck_why=None, progress=True,
+                   shipped_why=None):
     """Runs both scenes and analyses them; the cross-check too unless ``crosscheck_why`` says
-    why it is left out. Returns (runs, result, wall times). Raises ``handling.HandlingError``
-    when a run does not give what the analysis needs."""
+    why it is left out; on a tyre other than the shipped one, both scenes again on the shipped
+    tyre and what changed, unless ``shipped_why`` says why not. Returns (runs, result, wall
+    times); the shipped tyre's runs are ``runs["shipped_tyre"]`` ({name: run}). Raises
+    ``handling.HandlingError`` when a run does not give what the analysis needs."""
     walls, runs = {}, {}
     for name in ENTRIES:
         runs[name] = simulate(scenes[name], progress=progress)
@@ -57,6 +65,17 @@ def handling_study(scenes, fit_range, *, crosscheck_why=None, progress=True):
     started = time.perf_counter()
     result = analyse(runs, fit_range)
     walls["metrics and budget"] = time.perf_counter() - started
+    result["tyre"] = tyre_section.facts(scenes["steady_state"])
+    if not result["tyre"]["shipped"] and shipped_why is not None:
+        result["tyre_change"] = {"skipped": shipped_why}
+    elif not result["tyre"]["shipped"]:
+        started = time.perf_counter()
+        shipped, note = tyre_section.shipped_scenes({name: scenes[name] for name in ENTRIES})
+        runs["shipped_tyre"] = {name: simulate(shipped[name], progress=progress)
+                                for name in ENTRIES}
+        base = analyse(runs["shipped_tyre"], fit_range)
+        result["tyre_change"] = {"rows": tyre_section.changes(result, base), "note": note}
+        walls["the shipped tyre's runs and metrics"] = time.perf_counter() - started
     if crosscheck_why is None:
         started = time.perf_counter()
         result["crosscheck"] = cross_check(runs, result, fit_range)
@@ -75,10 +94,6 @@ def crosscheck_left_out(no_crosscheck):
         log.warning("cross-check left out: %s", why)
         return why
     return None
-
-
-def tyre_of(scene):
-    return MagicFormulaTyre.from_file(tir_path(scene.tyres.tir_file))
 
 
 def analyse(runs, fit_range):

@@ -3,12 +3,22 @@ figures (``figures``); ``summary`` is what summary.json holds."""
 
 from drake_car.results.diagram import write_diagram_svg
 from drake_car.results.files import write_csv, write_json, write_run
+from drake_car.study.handling import tyre_section
 from drake_car.study.handling.figures import crosscheck_figures, handling_figures
 
-def write_outputs(out, runs, result):
+def write_outputs(out, runs, result, scene):
+    """Every file of the study into ``out``; ``scene`` is the steady-state test's (its tyre's
+    curves go to ``tyre/``)."""
     for name, run in runs.items():
-        (out / name).mkdir()
-        write_run(run, out / name, diagram=False)
+        if name != "shipped_tyre":
+            (out / name).mkdir()
+            write_run(run, out / name, diagram=False)
+    if "shipped_tyre" in runs:
+        (out / "shipped_tyre").mkdir()
+        for name, run in runs["shipped_tyre"].items():
+            (out / "shipped_tyre" / name).mkdir()
+            write_run(run, out / "shipped_tyre" / name, diagram=False)
+    tyre_section.write(out / "tyre", scene)
     write_diagram_svg(runs["steady_state"].diagram_dot, out / "diagram.svg")
     ss, st, budget = result["steady_state"], result["step_steer"], result["budget"]
     write_csv(out / "steady_state" / "steady_state.csv", ss["series"])

@@ -1,9 +1,10 @@
-"""The handling study's report (report.md): the metrics beside the single-track model, step
-steer, the understeer budget term by term, and the cross-check with every difference over 10 %
+"""The handling study's report (report.md): the tyre the car runs on and what changed against
+the shipped tyre (``tyre_section``), the metrics beside the single-track model, step steer, the understeer budget term by term, and the cross-check with every difference over 10 %
 attributed."""
 
 import math
 
+from drake_car.study.handling import tyre_section
 from drake_car.study.handling.measures import DEG_PER_G as DEG
 
 def _f(value, digits=3, signed=False):
@@ -49,6 +50,7 @@ def report(result):
         f"(t = {m['t_range_s'][0]:.2f} … {m['t_range_s'][1]:.2f} s, {m['samples']} samples), "
         f"at the speed the car held there: {v:.3f} m/s = {3.6 * v:.2f} km/h "
         f"({m['speed_range_mps'][0]:.3f} … {m['speed_range_mps'][1]:.3f} m/s).", "",
+        *tyre_section.section(result),
         "## Steady-state circular driving (ISO 4138, continuous ramp steer)", "",
         "| quantity | value |", "|---|---|",
         f"| understeer gradient K = d(δ − L r/V)/da_y, δ from the rack | "

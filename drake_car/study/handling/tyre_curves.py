@@ -1,5 +1,6 @@
 """A tyre's steady-state curves, the figures an engineer looks at first, and a summary, from
-its Magic Formula (``law.tyre.magic_formula``) as the property file's format defines it.
+its Magic Formula (``law.tyre.magic_formula``) as the property file's format defines it;
+``write`` puts them in a folder (the tyre command's, the handling study's ``tyre/``).
 
 Signs ISO-W (the .tir's own axes: Fx > 0 driving, Fy < 0 for α > 0 with PKY1 < 0, Mz about the
 upward z), the tyre as the file holds it (its TYRESIDE, unmirrored), speed LONGVL, inputs inside
@@ -12,7 +13,12 @@ import math
 import matplotlib
 import numpy as np
 
-from drake_car.law.tyre.magic_formula import magic_formula, relaxation_lengths_m
+from drake_car.law.tyre.magic_formula import (
+    magic_formula,
+    relaxation_lengths_m,
+    relaxation_source,
+)
+from drake_car.results.files import write_csv, write_text
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -30,13 +36,27 @@ def _range(low, high, limit, n):
     return np.linspace(max(low, -limit), min(high, limit), n)
 
 
+def _slips(tyre):
+    """The sweeps' κ (±0.3) and α (±15°), inside the file's ranges."""
+    return (_range(tyre.KPUMIN, tyre.KPUMAX, 0.3, 121),
+            _range(tyre.ALPMIN, tyre.ALPMAX, math.radians(15.0), 121))
+
+
+def peak_mu(tyre, fz):
+    """(μx, μy) at load ``fz``: max |Fx|/Fz of the pure longitudinal sweep and max |Fy|/Fz of
+    the pure lateral sweep, zero camber (the curves' sweeps)."""
+    kappas, alphas = _slips(tyre)
+    mux = max(abs(magic_formula(tyre, fz, k, 0.0, 0.0, tyre.LONGVL).fx) for k in kappas)
+    muy = max(abs(magic_formula(tyre, fz, 0.0, a, 0.0, tyre.LONGVL).fy) for a in alphas)
+    return mux / fz, muy / fz
+
+
 def curves(tyre):
     """{"case": [...], COLUMNS...}: pure slip (``pure_long``, ``pure_lat``; ``lat_camber`` at
     γ = 3° or the file's CAMMAX) at every load, and ``combined`` (κ swept at α = 2, 5, 8°) at
     every load."""
     rows = []
-    kappas = _range(tyre.KPUMIN, tyre.KPUMAX, 0.3, 121)
-    alphas = _range(tyre.ALPMIN, tyre.ALPMAX, math.radians(15.0), 121)
+    kappas, alphas = _slips(tyre)
     camber = min(CAMBER_RAD, tyre.CAMMAX)
     for fz in loads_N(tyre):
         sweeps = [("pure_long", k, 0.0, 0.0) for k in kappas]
@@ -62,7 +82,7 @@ def stiffness_against_load(tyre, n=40):
             np.array([f.cornering_stiffness for f in forces]))
 
 
-def summary(tyre, table):
+def summary(tyre):
     """The summary's text: format read, peak μ, stiffnesses at FNOMIN, defaults, warnings."""
     lines = [f"tyre property file: {tyre.name}",
              f"format: {tyre.form} ({tyre.format_note}); TYRESIDE {tyre.side} (curves as the "
@@ -73,12 +93,9 @@ def summary(tyre, table):
              f"gamma {tyre.CAMMIN:g}..{tyre.CAMMAX:g} rad"]
     if tyre.form in ("MF 6.1", "MF 6.2"):
         lines.append(f"inflation pressure: {tyre.P_RATIO:g} x NOMPRES (dpi = {tyre.DPI:g})")
-    case = np.array(table["case"])
     lines.append("peak friction (max |F|/Fz in the pure sweeps):")
     for fz in loads_N(tyre):
-        at = table["fz_N"] == fz
-        mux = np.max(np.abs(table["fx_N"][at & (case == "pure_long")])) / fz
-        muy = np.max(np.abs(table["fy_N"][at & (case == "pure_lat")])) / fz
+        mux, muy = peak_mu(tyre, fz)
         lines.append(f"  Fz = {fz:7.0f} N: mu_x {mux:.3f}, mu_y {muy:.3f}")
     f = magic_formula(tyre, tyre.FNOMIN, 0.0, 0.0, 0.0, tyre.LONGVL)
     lines.append(f"at FNOMIN: slip stiffness Kx {f.slip_stiffness:.4g} N "
@@ -87,9 +104,14 @@ def summary(tyre, table):
                  f" Fz), pneumatic trail {f.pneumatic_trail * 1e3:.1f} mm")
     sigma = relaxation_lengths_m(tyre, tyre.FNOMIN)
     if sigma:
-        lines.append(f"relaxation lengths at FNOMIN from PTX*/PTY*: sigma_kappa "
-                     f"{sigma[0]:.3f} m, sigma_alpha {sigma[1]:.3f} m (the car uses them with "
-                     "tyres.slip.relaxation_lengths_from_file, at its wheel load at rest)")
+        source = {"PTX/PTY": "PTX*/PTY*", "carcass": "the carcass stiffnesses (Kx/Cx, "
+                  "|Kya|/Cy: LONGITUDINAL_STIFFNESS, LATERAL_STIFFNESS, PCFX*, PCFY*)"}
+        lines.append(f"relaxation lengths at FNOMIN from {source[relaxation_source(tyre)]}: "
+                     f"sigma_kappa {sigma[0]:.3f} m, sigma_alpha {sigma[1]:.3f} m (the car uses "
+                     "them with tyres.slip.relaxation_lengths_from_file, at its wheel load at "
+                     "rest)")
+    else:
+        lines.append("relaxation lengths: none in the file (the car uses tyres.slip's)")
     lines.append("coefficients defaulted (absent from the file; 0, scaling factors 1, PKY4 2, "
                  f"QSY7 1): {', '.join(tyre.defaulted) if tyre.defaulted else 'none'}")
     if tyre.RBX1 == 0.0 or tyre.RBY1 == 0.0:
@@ -153,3 +175,14 @@ def figures(tyre, table, out):
     _save(fig, out / "stiffness_load.png")
     return ["fy_alpha.png", "mz_alpha.png", "fx_kappa.png", "friction_ellipse.png",
             "stiffness_load.png"]
+
+
+def write(tyre, out):
+    """``curves.csv``, ``summary.txt`` and the figures of ``tyre`` into the folder ``out`` (the
+    tyre command's files; the handling study's ``tyre/``). Returns (summary text, figure
+    names)."""
+    table = curves(tyre)
+    text = summary(tyre)
+    write_csv(out / "curves.csv", table)
+    write_text(out / "summary.txt", text)
+    return text, figures(tyre, table, out)
