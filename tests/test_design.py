@@ -326,3 +326,18 @@ def test_design_study_quick_end_to_end(tmp_path):
     again = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert again.returncode == 0
     assert json.loads((study / "summary.json").read_text())["runs"]["reused"] == len(runs)
+
+
+def test_the_study_runs_on_another_tyre_file_laid_over_its_base_scene():
+    sedan = ROOT / "tests" / "data" / "tyres" / "Sedan_Pac02Tire.tir"
+    study = load_study(resource("scenes/studies/design.yaml"), "study",
+                       f"{{tyres: !MagicFormula {{tir_file: {sedan}}}}}")
+    assert study.base.tyres.tir_file == str(sedan)
+    assert study.base.friction.law.mu_s == STUDY.base.friction.law.mu_s  # the rest as it was
+    quick = design_runs.quick(study)
+    scenes = [s for part in (design_runs.map_scenes(quick), design_runs.mitigation_scenes(quick))
+              for s, _ in part.values()]
+    assert scenes and all(s.tyres.tir_file == str(sedan) for s in scenes)
+    with pytest.raises(SceneError, match="tyres"):
+        load_study(resource("scenes/studies/design.yaml"), "study",
+                   "{tyres: !MagicFormula {tir_fiel: x.tir}}")

@@ -17,6 +17,8 @@ Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/
 
   python experiments/design_study.py --out results/design          (about 30 min here)
   python experiments/design_study.py --out /tmp/design --quick     (a smoke run, ~2 min)
+  python experiments/design_study.py --out results/design_sedan \
+      --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
 """
 
 import os
@@ -42,6 +44,9 @@ def main(argv=None):
         "reused by the same command again; the study's results are rewritten"))
     p.add_argument("--study", default=f"{resource('scenes/studies/design.yaml')}:study",
                    help="the study's spec, FILE:ENTRY (default: %(default)s)")
+    p.add_argument("--scene_text", default="",
+                   help="YAML laid over the study's base scene, so over every run (e.g. "
+                   "another tyre: \"{tyres: !MagicFormula {tir_file: FILE}}\")")
     p.add_argument("--quick", action="store_true", help="a smoke run of every part")
     p.add_argument("--scheduler", default=None, help="a Dask scheduler's address")
     p.add_argument("--workers", type=cli.count, default=None, help="local workers (default: cores)")
@@ -53,7 +58,7 @@ def main(argv=None):
                    "runs are refined and to what)")
     args = p.parse_args(argv)
     path, child = parse_scene_option(args.study)
-    study = load_study(path, child)
+    study = load_study(path, child, args.scene_text or None)
     if args.quick:
         study = runs_of.quick(study)
     check_study_folder(args.out)

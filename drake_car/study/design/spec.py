@@ -133,12 +133,18 @@ class DesignStudy:
     accuracy: Accuracy = dataclasses.field(default_factory=Accuracy)
 
 
-def load_study(path, child=None) -> DesignStudy:
+def load_study(path, child=None, scene_text=None) -> DesignStudy:
+    """The study at ``path`` (its entry ``child``), ``scene_text`` (YAML, e.g. another tyre:
+    ``"{tyres: !MagicFormula {tir_file: FILE}}"``) laid over its base scene and so over every
+    run's; checked: every factor's range, line and mitigation must still make valid scenes."""
     try:
         study = yaml_load_typed(schema=DesignStudy, filename=str(path), child_name=child,
                                 defaults=DesignStudy())
     except Exception as e:
         raise SceneError(f"{path}: {one_line(e)}") from None
+    if scene_text:
+        study = dataclasses.replace(study, base=load_scene(scene_text=scene_text,
+                                                           base=study.base))
     check_scene(study.base, f"{path}: base")
     try:
         _check_values(study)
