@@ -16,11 +16,12 @@ import pytest
 from drake_car.data import resource
 from drake_car.law.road.profiles import CosineBump
 from drake_car.scene.load import SceneError, scene_hash
+from drake_car.study.design import jam_cases
 from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as design_runs
 from drake_car.study.design import tables
 from drake_car.study.design.spec import (
-    Mitigation, load_study, outcomes, paper_value, rough_road, with_value)
+    Accuracy, Mitigation, load_study, outcomes, paper_value, rough_road, with_value)
 from drake_car.study.design.sensitivity import sobol_indices, sobol_points
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -159,6 +160,97 @@ def test_mitigations_are_ranked_state_by_state_and_only_beyond_the_noise():
     assert "None lowers the split" in design_report._mitigation_answer(same, noise=0.09)
 
 
+def test_mitigations_judge_each_state_against_its_runs_own_errors():
+    # Errors as accuracy.apply gives them (fractions of the corner load): a state whose change
+    # is within the two runs' errors summed is neither lower nor higher.
+    def rows(name, splits_pct, errors_pct, converged="yes"):
+        return [{"role": "mitigation", "mitigation": name, "sample": k, "status": "ok",
+                 "split_change_rel": v / 100, "split_change_rel_error": e / 100,
+                 "split_change_rel_converged": converged, "pull_deg": 0.1}
+                for k, (v, e) in enumerate(zip(splits_pct, errors_pct))]
+    base = [5.0, 1.0, 3.0, 8.0]
+    a = [x - 0.5 for x in base]
+    errors = [0.1, 0.1, 0.3, 0.1]  # state 2: 0.5 lower, but 0.6 of error: unresolved
+    paired = tables.paired_change({r["sample"]: r for r in rows("baseline", base, errors)},
+                                  {r["sample"]: r for r in rows("a", a, errors)})
+    assert paired["share_lower"] == 0.75 and paired["unresolved"] == 1
+    assert paired["error_median"] == pytest.approx(0.2) and paired["not_converged"] == 0
+    assert paired["sign_test_p"] == pytest.approx(2 / 2 ** 3)  # over the 3 resolved states
+    jumping = tables.paired_change({r["sample"]: r for r in rows("baseline", base, errors)},
+                                   {r["sample"]: r for r in rows("a", a, [1.7] * 4, "no")})
+    assert jumping["share_lower"] == 0.0 and jumping["not_converged"] == 4
+    # A median change within the states' median error is no improvement, whatever the noise.
+    assert not design_report._better(dict(paired, error_median=0.6, sign_test_p=0.01), 0.0)
+    assert design_report._better(dict(paired, sign_test_p=0.01), 1.0)
+
+
+def test_jam_cases_are_the_refined_parts_runs_at_or_above_the_jam_mu_s():
+    study = design_runs.quick(STUDY)
+    parts = {"map": design_runs.map_scenes(study), "line": design_runs.line_scenes(study),
+             "mc": design_runs.monte_carlo_scenes(study),
+             "mitigation": design_runs.mitigation_scenes(study)}
+    jam = jam_cases.jam_scenes(study, parts)
+    assert jam and all(s.friction.law.mu_s >= 0.3 for s in jam.values())
+    assert not any(n.startswith("mc_") for n in jam)  # the Monte Carlo is not a refined part
+    every = [n for role in ("map", "mitigation") for n, (s, _) in parts[role].items()
+             if s.friction.law.mu_s >= 0.3]
+    assert sorted(jam) == sorted(every)
+    none = dataclasses.replace(study, accuracy=Accuracy(parts=["sobol"]))
+    assert jam_cases.jam_scenes(none, parts) == {}
+
+
+def test_rows_carry_their_runs_own_errors_or_the_noise_sample_s():
+    @dataclasses.dataclass
+    class Refined:  # what accuracy.apply reads of sweep.refine.Refined
+        outcomes: dict
+        steps_s: dict
+
+        def run_wall_s(self, name):
+            return 12.5
+    refined = Refined({("map0_001", "split_change_rel"): {
+        "value": 0.05, "error": 0.017, "converged": False, "step_s": 1.25e-4,
+        "values": [0.067, 0.067, 0.05, 0.067]}}, {"map0_001": [1e-3, 5e-4, 2.5e-4, 1.25e-4]})
+    rows = [{"name": n, "status": "ok", "step_s": 1e-3, "split_change_rel": 0.067,
+             "pull_deg": math.nan} for n in ("map0_001", "mc_0000")]
+    jam_cases.apply(rows, refined, {"split_change_rel": 9e-4, "pull_deg": 0.04})
+    jam, other = rows
+    assert jam["split_change_rel"] == 0.05 and jam["split_change_rel_error"] == 0.017
+    assert jam["split_change_rel_converged"] == "no"
+    assert jam["split_change_rel_values"] == "0.067;0.067;0.05;0.067"
+    assert jam["refine_wall_s"] == 12.5 and math.isnan(other["refine_wall_s"])
+    assert other["split_change_rel_error"] == 9e-4
+    assert other["split_change_rel_error_from"] == "noise sample"
+    assert other["split_change_rel_converged"] == "-"
+    assert math.isnan(other["pull_deg_error"])  # no pull measured: no error either
+
+
+def test_a_map_s_boundary_is_drawn_no_finer_than_each_cell_s_error_and_names_open_cells():
+    spec = dataclasses.replace(STUDY.maps[0], points=3)
+    values = [0.5, 0.9, 2.0]  # % of the corner load, along μs; the threshold is 1 %
+    rows = []
+    for _ in range(3):
+        for k, v in enumerate(values):
+            rows.append({"status": "ok", "split_change_rel": v / 100,
+                         "split_change_rel_error": (0.2 if k == 1 else 0.0) / 100,
+                         "split_change_rel_converged": "no" if k == 1 else "yes",
+                         "split_change_rel_values": "0.009;0.011;0.009"})
+    text = design_report.boundary_lines(STUDY, spec, rows, "split_change_rel", 100.0, 1.0,
+                                        "The lasting split")
+    assert "(within the error)" in text and "(beyond it)" in text
+    assert "Not converged at the finest step tried" in text and "+0.90 / +1.10 / +0.90" in text
+
+
+def test_a_bad_accuracy_section_is_refused_by_its_key(tmp_path):
+    for text, says in (("parts: [map, sobl]", "accuracy.parts: 'sobl' not a part"),
+                       ("split_tolerance: 0.0", "accuracy.split_tolerance = 0.0 must be"),
+                       ("finest_step_s: .nan", "accuracy.finest_step_s = nan must be")):
+        spec = tmp_path / "study.yaml"
+        spec.write_text(resource("scenes/studies/design.yaml").read_text()
+                        + f"  accuracy: {{{text}}}\n")
+        with pytest.raises(SceneError, match=says.replace("[", r"\[")):
+            load_study(spec, "study")
+
+
 def test_answers_say_when_no_pull_was_measured():
     study = dataclasses.replace(STUDY, maps=[], mitigations=[])
     jam = {"runs": 3, "split": {"n": 3, "median": 0.5, "p90": 1.1, "share_above": 1 / 3},
@@ -208,7 +300,8 @@ def test_design_study_quick_end_to_end(tmp_path):
     result = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
     study = out / "study"
-    assert "## One factor at a time" in (out / "report.md").read_text()
+    text = (out / "report.md").read_text()
+    assert "## One factor at a time" in text and "## Accuracy where the struts jam" in text
     for name in ("table.csv", "summary.json", "sobol.png", "monte_carlo.png", "lines.png",
                  "map0_split_change_rel.png", "map0_pull_deg.png"):
         assert (study / name).stat().st_size > 0, name
@@ -216,6 +309,16 @@ def test_design_study_quick_end_to_end(tmp_path):
     assert summary["runs"]["failed"] == 0 and summary["answers"]
     table = (study / "table.csv").read_text().splitlines()
     assert len(table) - 1 == summary["runs"]["total"]
+    with open(study / "table.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    # Accuracy on demand: every jam case of the refined parts ran at three steps or more and
+    # says whether it converged; the others carry the noise sample's error.
+    refined = [r for r in rows if r["split_change_rel_error_from"] == "own steps"]
+    assert refined and all(float(r["friction.law.mu_s"]) >= 0.3 for r in refined)
+    assert all(r["split_change_rel_converged"] in ("yes", "no") for r in refined)
+    assert all(len(r["split_change_rel_values"].split(";")) >= 3 for r in refined)
+    assert all(float(r["split_change_rel_step_s"]) <= float(r["step_s"]) / 4 for r in refined)
+    assert summary["accuracy"]["runs"] == len(refined)
     # Rerunning reuses every finished run (rows of equal scenes share one run).
     with open(study / "table.csv", newline="") as f:
         runs = {row["hash"] for row in csv.DictReader(f)}
@@ -223,3 +326,18 @@ def test_design_study_quick_end_to_end(tmp_path):
     again = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert again.returncode == 0
     assert json.loads((study / "summary.json").read_text())["runs"]["reused"] == len(runs)
+
+
+def test_the_study_runs_on_another_tyre_file_laid_over_its_base_scene():
+    sedan = ROOT / "tests" / "data" / "tyres" / "Sedan_Pac02Tire.tir"
+    study = load_study(resource("scenes/studies/design.yaml"), "study",
+                       f"{{tyres: !MagicFormula {{tir_file: {sedan}}}}}")
+    assert study.base.tyres.tir_file == str(sedan)
+    assert study.base.friction.law.mu_s == STUDY.base.friction.law.mu_s  # the rest as it was
+    quick = design_runs.quick(study)
+    scenes = [s for part in (design_runs.map_scenes(quick), design_runs.mitigation_scenes(quick))
+              for s, _ in part.values()]
+    assert scenes and all(s.tyres.tir_file == str(sedan) for s in scenes)
+    with pytest.raises(SceneError, match="tyres"):
+        load_study(resource("scenes/studies/design.yaml"), "study",
+                   "{tyres: !MagicFormula {tir_fiel: x.tir}}")

@@ -210,3 +210,43 @@ def test_a_claim_is_undecided_when_its_margin_is_within_the_error():
         assert five["decided"] is decided, (five["margin"], five["error"])
     # At one step only: no error, so not decided either way (None).
     assert claim_measures(at_one_step(base), roles)[4][0]["decided"] is None
+
+
+def test_a_run_that_fails_is_refined_no_further_and_the_others_go_on():
+    # A simulator that loses the jammed run from 0.25 ms on (it raised there): the loop must
+    # not ask for it again and again, must refine the others, and must say which failed.
+    class Losing(Simulator):
+        def __call__(self, scenes):
+            done = super().__call__(scenes)
+            return {n: r for n, r in done.items()
+                    if not (n.startswith("jam") and r.scene.plant.time_step < 4e-4)}
+    sim = Losing()
+    found = refine(scenes(), outcomes_of, {"x": 0.1, "pair": 0.1}, sim, halve=fake_halve,
+                   finest_step_s=1e-5)
+    assert found.failed == ["jam"]
+    assert len(sim.batches) == 1  # nothing left to refine: the smooth run converged
+    assert found.steps_s["jam"] == [1e-3, 5e-4]
+    row = found.outcomes[("jam", "x")]
+    assert row["converged"] is False and row["values"] == [6.7, 6.7]  # two steps: not judged
+    assert "failed" in found.stopped
+
+
+def test_claim_6_s_count_is_decided_only_when_its_peak_is_clear_of_mu_s_by_its_error():
+    study = study_of()
+    roles = {n: (r.case, r.friction) for n, r in study.items()}
+    base = study_outcomes({n: r.columns for n, r in study.items()}, roles, TIMELINE)
+    a2 = next(n for n, (c, f) in roles.items() if (c, f.number) == ("a", 2))
+    # The count (0: μ1 never reaches μs) agrees at every step; the left peak μ1/μs is 0.974
+    # at the finest step. With its steps 0.96 / 0.99 / 0.974 (span 0.03, more than its 0.026
+    # of margin) the count is undecided; with 0.970 / 0.972 / 0.973 (error 0.001) decided.
+    for peaks, decided in (((0.96, 0.99, 0.974), False), ((0.970, 0.972, 0.973), True)):
+        levels = []
+        for peak in peaks:
+            level = dict(base)
+            level[(a2, "mu1_reaches_left")] = (0.0, "count")
+            level[(a2, "mu1_peak_left")] = (peak, "ratio")
+            levels.append(level)
+        six = claim_measures(_table(levels), roles)[5]
+        count = next(m for m in six if m["outcomes"] == ["mu1_reaches_left"])
+        assert count["converged"] is True and count["value"] == 0.0
+        assert count["decided"] is decided

@@ -8,12 +8,17 @@ DIR/sweep/ (a rerun reuses every finished run):
   - lines: one factor at a time (spring inclination, top mount, speed-up) at two μs, hands off;
   - Sobol's sample over the factors (SALib; hands on: the split and the rack-force change);
   - a Monte Carlo of jam states (random road unevenness before the manoeuvre, hands off);
-  - each mitigation over the same states; a sample of all of these at half the step (noise).
+  - each mitigation over the same states; a sample of all of these at half the step (noise);
+  - accuracy on demand where the struts jam (the spec's ``accuracy``: by default the maps',
+    lines' and mitigations' runs at μs >= 0.3): each repeated at 1/2 and 1/4 of its step and
+    halved further until its lasting split and pull converge (--no_verify: not refined).
 Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/: table.csv
 (one row per run), the maps, lines.png, sobol.png, monte_carlo.png and summary.json.
 
   python experiments/design_study.py --out results/design          (about 30 min here)
   python experiments/design_study.py --out /tmp/design --quick     (a smoke run, ~2 min)
+  python experiments/design_study.py --out results/design_sedan \
+      --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
 """
 
 import os
@@ -24,11 +29,13 @@ from drake_car.data import resource
 from drake_car.scene.load import parse_scene_option
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import OutputError, check_output_target, output_folder
+from drake_car.study.design import jam_cases
 from drake_car.study.design import analysis as design_analysis
 from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as runs_of
+from drake_car.study.design import tables as design_tables
 from drake_car.study.design.spec import load_study
-from drake_car.sweep.runner import run_sweep
+from drake_car.sweep.runner import cores, dask_client, run_scenes, run_sweep
 
 
 def main(argv=None):
@@ -37,14 +44,21 @@ def main(argv=None):
         "reused by the same command again; the study's results are rewritten"))
     p.add_argument("--study", default=f"{resource('scenes/studies/design.yaml')}:study",
                    help="the study's spec, FILE:ENTRY (default: %(default)s)")
+    p.add_argument("--scene_text", default="",
+                   help="YAML laid over the study's base scene, so over every run (e.g. "
+                   "another tyre: \"{tyres: !MagicFormula {tir_file: FILE}}\")")
     p.add_argument("--quick", action="store_true", help="a smoke run of every part")
     p.add_argument("--scheduler", default=None, help="a Dask scheduler's address")
     p.add_argument("--workers", type=cli.count, default=None, help="local workers (default: cores)")
     p.add_argument("--rerun_failed", action="store_true",
                    help="run the failed runs again (a rerun reuses them otherwise)")
+    p.add_argument("--no_verify", action="store_true",
+                   help="no accuracy on demand: the jam cases at the study's step only, every "
+                   "error the half-step noise sample's (the spec's accuracy section says which "
+                   "runs are refined and to what)")
     args = p.parse_args(argv)
     path, child = parse_scene_option(args.study)
-    study = load_study(path, child)
+    study = load_study(path, child, args.scene_text or None)
     if args.quick:
         study = runs_of.quick(study)
     check_study_folder(args.out)
@@ -56,12 +70,26 @@ def main(argv=None):
     named = {name: entry for part in parts.values() for name, entry in part.items()}
     parts["noise"] = runs_of.noise_scenes(study, named, runs_of.noise_sample(study, parts))
     named |= parts["noise"]
-    sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, args.out / "sweep",
-                      scheduler=args.scheduler, workers=args.workers,
-                      rerun_failed=args.rerun_failed)
-    rows = design_analysis.table(study, parts, args.out / "sweep")
+    sweep_dir = args.out / "sweep"
+    jam = {} if args.no_verify else jam_cases.jam_scenes(study, parts)
+    with dask_client(args.scheduler, min(args.workers or cores(), len(named))) as client:
+        sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, sweep_dir,
+                          client=client, rerun_failed=args.rerun_failed)
+        refined = None
+        if jam:
+            print(f"accuracy on demand: {len(jam)} runs at μs >= {study.accuracy.jam_mu_s:g} "
+                  f"({', '.join(study.accuracy.parts)}) at 1/2 and 1/4 of their step, then "
+                  f"halved where not converged, down to {1e3 * study.accuracy.finest_step_s:g} "
+                  "ms", flush=True)
+            refined = jam_cases.refine_jam_cases(
+                study, parts, lambda batch: run_scenes(batch, out_dir=sweep_dir, client=client,
+                                                       skip_failed=True))
+    rows = design_analysis.table(study, parts, sweep_dir)
+    noise = design_tables.noise_levels(rows)
+    jam_cases.apply(rows, refined, noise)
     with output_folder(args.out / "study") as out:
-        summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began)
+        summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began,
+                                          noise, jam_cases.summary(refined, rows, study))
         write_csv(out / "table.csv", {k: [row[k] for row in rows] for k in rows[0]})
         write_json(out / "summary.json", summary)
     report = args.out / "report.md"

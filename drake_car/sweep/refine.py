@@ -72,13 +72,16 @@ class Refined:
     the scene's step / 2**k); ``steps_s``: name -> the steps it ran at; ``needed_step_s``:
     name -> the finest step it ran at (None if a budget stopped it unconverged there: see
     ``converged_runs``); ``rounds``: [{"step_s": steps, "runs": count, "wall_s"}];
-    ``wall_s``: the whole refinement's wall time; ``stopped``: why it stopped."""
+    ``wall_s``: the whole refinement's wall time; ``stopped``: why it stopped; ``failed``: the
+    runs whose simulation failed at some step (``simulate`` left them out): not refined
+    further, their outcomes classified on the steps they ran at."""
     outcomes: dict
     runs: dict
     steps_s: dict
     rounds: list
     wall_s: float
     stopped: str
+    failed: list = dataclasses.field(default_factory=list)
 
     def run_wall_s(self, name):
         """The simulation wall time of run ``name`` at every step it ran at (s)."""
@@ -99,14 +102,14 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
     ``outcomes_of(runs)``: runs (name -> Run, all at one halving) -> {(subject, outcome):
     (value, unit)} for the subjects whose runs are all there. ``tolerances``: outcome ->
     absolute tolerance (in its unit). ``simulate(scenes)``: name -> Run for name -> Scene (e.g.
-    ``sweep.runner.run_scenes``; called once per round). ``drives``: the outcomes whose
+    ``sweep.runner.run_scenes``; called once per round); a name it leaves out failed. ``drives``: the outcomes whose
     convergence is refined for (default: every outcome with a tolerance); the others are
     classified on the steps their runs ran at. ``first_extra``: scenes run in the first round's
     sweep too, not refined (returned as level "extra"). ``halve(scene, k)``: the scene at
     its step / 2**k (default ``halved``)."""
     began = time.perf_counter()
     drives = set(tolerances) if drives is None else set(drives)
-    runs, steps, rounds, values = {}, {n: [] for n in scenes}, [], {}
+    runs, steps, rounds, values, failed = {}, {n: [] for n in scenes}, [], {}, set()
     todo = {0: list(scenes), 1: list(scenes), 2: list(scenes)}
     stopped = "every outcome converged"
     while True:
@@ -122,14 +125,21 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
         if extra:
             runs["extra"] = {n: done[n] for n in extra}
         for level, names in todo.items():
+            lost = [n for n in names if _key(n, level) not in done]
+            failed.update(lost)  # a run that failed is refined no further
+            names = [n for n in names if n not in lost]
             runs.setdefault(level, {}).update({n: done[_key(n, level)] for n in names})
             for name in names:
                 steps[name].append(batch[_key(name, level)].plant.time_step)
             for key, (value, unit) in outcomes_of(runs[level]).items():
                 values.setdefault(key, {"unit": unit, "by_level": {}})["by_level"][level] = value
         found = _classified(values, tolerances, order, scenes)
-        open_ = {k for k, o in found.items() if k[1] in drives and not o["converged"]}
+        open_ = {k for k, o in found.items() if k[1] in drives and not o["converged"]
+                 and not failed.intersection(subjects_runs(k[0]))}
         if not open_:
+            if failed:
+                stopped = (f"every outcome converged but those of {len(failed)} run(s) that "
+                           "failed")
             break
         need = sorted({n for subject, _ in open_ for n in subjects_runs(subject)})
         level = max(len(steps[n]) for n in need)
@@ -152,7 +162,7 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
                     if n not in todo.get(lv, []):
                         todo.setdefault(lv, []).append(n)
     return Refined(_classified(values, tolerances, order, scenes), runs, steps, rounds,
-                   time.perf_counter() - began, stopped)
+                   time.perf_counter() - began, stopped, sorted(failed))
 
 
 def _key(name, level):

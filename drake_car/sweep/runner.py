@@ -364,13 +364,14 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
 
 
 def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
-               out_dir=None, client=None) -> dict:
+               out_dir=None, client=None, skip_failed=False) -> dict:
     """name -> Run for name -> Scene, run as a sweep (see the module), in the scenes' order.
     ``out_dir`` None: the results are kept in memory only; a folder: they are written there
     too, as ``run_sweep`` does (a restart reuses its runs). On ``client`` if given (e.g. one
     cluster for the rounds of ``sweep.refine``), else as ``run_sweep``. If any run failed,
     raises the first failed run's error, in the scenes' order (``failure``), after all have
-    run."""
+    run; with ``skip_failed`` leaves the failed runs out instead (their record is in
+    ``out_dir``)."""
     jobs = jobs_of(scenes)
     results = {}
     if not jobs:
@@ -391,6 +392,8 @@ def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
     for name, scene in scenes.items():
         record, run = results[key_of[name]]
         if record["status"] != "ok":
+            if skip_failed:
+                continue
             raise failure(name, record, run)
         runs[name] = run if run.scene.name == name else dataclasses.replace(run, scene=scene)
     return runs

@@ -22,7 +22,8 @@ def table(study, parts, sweep_dir):
         for name, (scene, values) in part.items():
             key = run_key(key_parts(scene))
             status = (read_status(sweep_dir / "runs" / key) or {}).get("status", "missing")
-            row = {"name": name, "role": role, "hash": key, "status": status}
+            row = {"name": name, "role": role, "hash": key, "status": status,
+                   "step_s": scene.plant.time_step}
             row |= {k: value_of(scene, k) for k in keys}
             row |= {"sample": values.get("sample", ""), "mitigation": values.get("mitigation", ""),
                     "line": values.get("line", ""), "of": values.get("of", "")}
@@ -32,9 +33,11 @@ def table(study, parts, sweep_dir):
     return rows
 
 
-def analyse(study, rows, out, sweep, wall_s):
-    """The study's summary (what ``design_report.report`` writes up); figures into ``out``."""
-    noise = tables.noise_levels(rows)
+def analyse(study, rows, out, sweep, wall_s, noise, acc=None):
+    """The study's summary (what ``design_report.report`` writes up); figures into ``out``.
+    ``rows``: the table with every row's errors (``accuracy.apply``); ``noise``: the half-step
+    sample's levels (``tables.noise_levels`` of the rows before); ``acc``: the jam cases'
+    ``accuracy.summary`` (None: not refined)."""
     threshold = 100 * study.split_threshold
     outcomes_drawn = (("split_change_rel", 100.0, threshold,
                        "lasting front load split change [% of corner load]"),
@@ -46,15 +49,18 @@ def analyse(study, rows, out, sweep, wall_s):
         fx, fy = factor(study, spec.x), factor(study, spec.y)
         for outcome, scale, limit, unit in outcomes_drawn:
             xs, ys, values = tables.map_grid(study, spec, part, outcome, scale)
+            _, _, errors = tables.map_grid(study, spec, part, f"{outcome}_error", scale)
+            unconverged = tables.map_flags(study, spec, part, f"{outcome}_converged", "no")
             name = f"map{i}_{outcome}.png"
             figures.heat_map(xs, ys, values, x_label=fx.label, y_label=fy.label,
                              paper=(paper_value(study, fx), paper_value(study, fy)),
                              threshold=limit, title=f"{fy.label} × {fx.label}",
-                             path=out / name, value_label=unit,
-                             noise=noise.get(outcome, 0.0) * scale)
+                             path=out / name, value_label=unit, noise=errors,
+                             unconverged=unconverged)
             maps.append({"figure": name, "caption": f"{unit} over {fx.label} × {fy.label}; "
                          "the star is the paper's car, the line the threshold; x marks cells "
-                         "within the numerical noise of it"})
+                         "within their numerical error of it, a square cells not converged "
+                         "at the finest step tried"})
     lines = tables.line_tables(study, [r for r in rows if r["role"] == "line"])
     if lines:
         figures.lines(lines, study.line_mu_s, split_threshold=threshold,
@@ -88,10 +94,12 @@ def analyse(study, rows, out, sweep, wall_s):
             "jam_states": jam_states, "mitigation_mu_s": study.mitigation_mu_s,
             "mitigations": mitigations,
             "noise": {"pairs": sum(r["role"] == "noise" for r in rows), "levels": noise},
+            "accuracy": acc,
             "answers": report.answers(study, rows, sobol, jam_states, mitigations, noise,
                                      lines),
             "method": report.method(study),
             "runs": {"total": len(rows), "distinct": len({r["hash"] for r in rows}),
                      "reused": sweep["reused"], "failed": len(failed),
+                     "sweep_wall_s": sweep["wall_s"],
                      "failed_names": failed},
             "wall_s": wall_s, "provenance": provenance()}

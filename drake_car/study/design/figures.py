@@ -10,10 +10,13 @@ import numpy as np  # noqa: E402
 
 
 def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
-             value_label="lasting front load split change [% of corner load]", noise=None):
+             value_label="lasting front load split change [% of corner load]", noise=None,
+             unconverged=None):
     """``values[j][i]`` at (xs[i], ys[j]), in %; the contour |value| = threshold (%) drawn;
-    cells whose |value| is within ``noise`` (%) of the threshold hatched: the boundary there
-    is not resolved."""
+    cells whose |value| is within their error ``noise`` (a number, or one per cell, in the
+    values' unit) of the threshold marked x: the boundary there is not resolved; cells
+    ``unconverged`` (booleans per cell) framed by a square: not converged at the finest step
+    tried."""
     z = np.asarray(values, dtype=float)
     fig, ax = plt.subplots(figsize=(6.4, 5.0))
     limit = max(float(np.nanmax(np.abs(z))), threshold * 1.5, 1e-9)
@@ -25,11 +28,15 @@ def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
                              linewidths=1.6)
         ax.clabel(contour, fmt={threshold: f"threshold {threshold:g}"}, fontsize=7)
     if noise is not None:
-        near = np.abs(np.abs(z) - threshold) < noise
+        near = np.abs(np.abs(z) - threshold) < np.broadcast_to(noise, z.shape)
         for j, y in enumerate(ys):
             for i, x in enumerate(xs):
                 if near[j, i]:
                     ax.plot(x, y, "x", color="0.3", ms=7)
+    if unconverged is not None and np.any(unconverged):
+        jj, ii = np.nonzero(np.asarray(unconverged))
+        ax.plot(np.asarray(xs)[ii], np.asarray(ys)[jj], "s", mfc="none", mec="k", ms=22,
+                label="not converged")
     ax.plot(*paper, marker="*", color="gold", mec="k", ms=16, label="the paper's car",
             ls="none")
     for j, y in enumerate(ys):
@@ -98,7 +105,8 @@ def lines(line_tables, mu_s_values, *, split_threshold, pull_threshold, noise, p
     """One row per line (a factor varied alone): the lasting split (%) and the pull (deg) at
     each of the factor's values, in the spec's order and evenly spaced (a value such as 0 for
     a rigid mount has no place on a linear axis), a curve per μs; the thresholds dashed, the
-    numerical noise (``noise``: split %, pull deg) as a band around zero."""
+    numerical noise (``noise``: split %, pull deg) as a band around zero, each point's own
+    error as its bar (refined runs: their steps'), a square where it has not converged."""
     fig, axes = plt.subplots(len(line_tables), 2, figsize=(9.0, 2.6 * len(line_tables) + 0.4),
                              squeeze=False)
     for row, line in zip(axes, line_tables):
@@ -109,8 +117,13 @@ def lines(line_tables, mu_s_values, *, split_threshold, pull_threshold, noise, p
                                             "pull [deg]")):
             for mu_s in mu_s_values:
                 pts = [p for p in line["points"] if p["mu_s"] == mu_s]
-                ax.plot([values.index(p["value"]) for p in pts], [p[key] for p in pts], "o-",
-                        label=f"μs = {mu_s:g}")
+                x = [values.index(p["value"]) for p in pts]
+                bars = ax.errorbar(x, [p[key] for p in pts],
+                                   yerr=[np.nan_to_num(p.get(f"{key}_error", 0.0)) for p in pts],
+                                   fmt="o-", capsize=3, label=f"μs = {mu_s:g}")
+                open_ = [p for p in pts if p.get(f"{key}_converged") == "no"]
+                ax.plot([values.index(p["value"]) for p in open_], [p[key] for p in open_],
+                        "s", mfc="none", mec=bars[0].get_color(), ms=11)
             for sign in (1, -1):
                 ax.axhline(sign * limit, color="k", ls="--", lw=0.8)
             ax.axhspan(-band, band, color="0.85", zorder=0, label="numerical noise")

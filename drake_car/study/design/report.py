@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 
+from drake_car.study.design.jam_cases import report_lines
 from drake_car.study.design.spec import factor, paper_value
 from drake_car.study.design.tables import map_grid
 
@@ -35,7 +36,10 @@ def report(s, figures=""):
              f"{(s['provenance']['git_commit'] or 'unknown')[:10]}, {s['provenance']['created_utc']}; "
              f"{s['runs']['total']} rows of the table, {s['runs']['distinct']} distinct runs "
              f"({s['runs']['reused']} reused, {s['runs']['failed']} failed), "
-             f"{s['wall_s'] / 60:.1f} min wall"
+             f"{s['wall_s'] / 60:.1f} min wall (the sweep "
+             f"{s['runs'].get('sweep_wall_s', math.nan) / 60:.1f} min"
+             + (f", accuracy on demand {s['accuracy']['wall_s'] / 60:.1f} min"
+                if s.get("accuracy") else "") + ")"
              + (" (the dirty checkout's files, not the commit's)"
                 if s['provenance'].get('dirty') else "") + ".", "",
              "## The question and the answer", "",
@@ -83,8 +87,8 @@ def report(s, figures=""):
               f"their μs (`{figures}monte_carlo.png`).", "",
               "| case | runs | abs. split median / p90 [%] | above threshold [% of states] | "
               "abs. pull median / p90 [deg] | above threshold [% of states] | abs. split "
-              "against the baseline, state by state: median [%] / lower in [% of states] |",
-              "|---|---|---|---|---|---|---|"]
+              "against the baseline, state by state: median [%] / lower beyond the errors in "
+              "[% of states] | runs not converged |", "|---|---|---|---|---|---|---|---|"]
     for m in [s["jam_states"], *s["mitigations"]]:
         sp, pu, pa = m["split"], m["pull"], m.get("paired", {})
         lines.append(f"| {m['mitigation']} | {m['runs']} | {_fmt(sp.get('median'))} / "
@@ -92,10 +96,12 @@ def report(s, figures=""):
                      f"{_fmt(pu.get('median'))} / {_fmt(pu.get('p90'))} | "
                      f"{_pct(pu.get('share_above'))} | "
                      + (f"{pa['median']:+.2f} / {_pct(pa['share_lower'])}" if pa.get("n")
-                        else "-") + " |")
-    lines += ["", "## Numerical noise", "",
+                        else "-") + f" | {m.get('not_converged', 0)} |")
+    lines += [""] + report_lines(s.get("accuracy"), figures)
+    lines += ["## Numerical noise", "",
               f"{s['noise']['pairs']} runs repeated at half the step; the largest change of "
-              "each outcome (no boundary or ranking finer than this is drawn):", ""]
+              "each outcome, the error of every run not refined (the Sobol sample's and the "
+              "runs below the jam μs):", ""]
     for key, level in s["noise"]["levels"].items():
         scale, unit = NOISE_UNITS.get(key, (1.0, ""))
         lines.append(f"- {key}: {scale * level:.3g} {unit}".rstrip())
@@ -133,24 +139,35 @@ def _where(x, xs, label):
 
 def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0):
     """Plain words for a map's boundary: per row (y), where along x the outcome crosses the
-    threshold; with ``noise`` (in the outcome's scaled unit) > 0, where it surely exceeds it
-    (threshold + noise) against where it may (threshold - noise): a boundary is not drawn
-    finer than the noise."""
+    threshold; with errors (each cell's ``<outcome>_error`` where the rows have it, else
+    ``noise``; in the outcome's scaled unit) > 0, where it surely exceeds it (|value| - error
+    above the threshold) against where it may (|value| + error above it): a boundary is not
+    drawn finer than the errors; the cells not converged are named with their values at each
+    step."""
     fx, fy = factor(study, spec.x), factor(study, spec.y)
     xs, ys, values = map_grid(study, spec, rows, outcome, scale)
+    errors = np.full(values.shape, float(noise))
+    if rows and f"{outcome}_error" in rows[0]:
+        errors = np.nan_to_num(map_grid(study, spec, rows, f"{outcome}_error", scale)[2])
     parts = []
     for j, y in enumerate(ys):
-        sure = _crossing(xs, values[j], threshold + noise)
-        maybe = _crossing(xs, values[j], max(threshold - noise, 0.0))
-        if noise > 0 and sure != maybe:
-            where = (f"from {_where(maybe, xs, fx.label)} (within the noise) to "
+        v = np.abs(values[j])
+        sure = _crossing(xs, v - errors[j], threshold)
+        maybe = _crossing(xs, v + errors[j], threshold)
+        if sure != maybe:
+            where = (f"from {_where(maybe, xs, fx.label)} (within the error) to "
                      f"{_where(sure, xs, fx.label)} (beyond it)")
         else:
             x = sure
             where = _where(x, xs, fx.label) if x is None or x == -math.inf else \
                 f"from {fx.label} ≈ {x:.3g}"
         parts.append(f"{fy.label} = {y:.3g}: {where}")
-    return (f"{unit} beyond the threshold over {fx.label} × {fy.label}: " + "; ".join(parts))
+    open_ = [f"{fx.label} {xs[k % len(xs)]:.3g}, {fy.label} {ys[k // len(xs)]:.3g} ("
+             + " / ".join(f"{scale * float(x):+.2f}" for x in r[f"{outcome}_values"].split(";"))
+             + ")" for k, r in enumerate(rows) if r.get(f"{outcome}_converged") == "no"]
+    return (f"{unit} beyond the threshold over {fx.label} × {fy.label}: " + "; ".join(parts)
+            + (f". Not converged at the finest step tried (values at each step): "
+               f"{'; '.join(open_)}" if open_ else ""))
 
 
 def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
@@ -192,17 +209,21 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
     if len(mitigations) > 1 and mitigations[0]["runs"]:
         lines.append(_mitigation_answer(mitigations, 100 * noise.get("split_change_rel", 0.0)))
     if noise:
-        lines.append("Numerical noise (half-step reruns): the split changes by up to "
-                     f"{100 * noise.get('split_change_rel', math.nan):.2f} % and the pull by up "
-                     f"to {noise.get('pull_deg', math.nan):.2f} deg; boundaries and rankings "
-                     "closer than that are not resolved.")
+        lines.append("Numerical error: the runs where the struts jam carry their own (refined "
+                     "until they converge; see \"Accuracy where the struts jam\"); the others "
+                     "the half-step sample's largest change, up to "
+                     f"{100 * noise.get('split_change_rel', math.nan):.2f} % in the split and "
+                     f"{noise.get('pull_deg', math.nan):.2f} deg in the pull. Boundaries and "
+                     "rankings closer than their errors are not resolved.")
     return lines
 
 
 def _better(paired, noise):
-    """A paired change that is a real improvement: lower by more than the numerical noise in
-    the median, and in more states than chance gives (sign test, p < 0.05)."""
-    return paired.get("median", math.inf) < -noise and paired.get("sign_test_p", 1.0) < 0.05
+    """A paired change that is a real improvement: lower in the median by more than the
+    states' median error (their runs' own errors; ``noise`` where the pairs have none), and in
+    more states than chance gives (sign test over the states resolved, p < 0.05)."""
+    limit = paired.get("error_median", noise)
+    return paired.get("median", math.inf) < -limit and paired.get("sign_test_p", 1.0) < 0.05
 
 
 def _mitigation_answer(mitigations, noise):
@@ -216,8 +237,12 @@ def _mitigation_answer(mitigations, noise):
         f"{m['mitigation']}: median {m['split'].get('median', math.nan):.2f} %, "
         f"{100 * m['split'].get('share_above', math.nan):.0f} % of states above the threshold, "
         f"pull median {m['pull'].get('median', math.nan):.2f} deg; state by state "
-        f"{m['paired'].get('median', math.nan):+.2f} % (lower in "
-        f"{100 * m['paired'].get('share_lower', math.nan):.0f} % of the states)"
+        f"{m['paired'].get('median', math.nan):+.2f} % (lower beyond the runs' errors in "
+        f"{100 * m['paired'].get('share_lower', math.nan):.0f} % of the states"
+        + (f", within them in {m['paired']['unresolved']}" if m['paired'].get('unresolved')
+           else "")
+        + (f", a run not converged in {m['paired']['not_converged']}"
+           if m['paired'].get('not_converged') else "") + ")"
         for m in ranked)
     helps = [m for m in ranked if _better(m["paired"], noise)]
     worse = [m["mitigation"] for m in ranked if _better(
@@ -240,8 +265,8 @@ def _mitigation_answer(mitigations, noise):
             f"median {base['split'].get('median', math.nan):.2f} %, pull median "
             f"{base['pull'].get('median', math.nan):.2f} deg): {text}. {verdict}. Lower than "
             f"the baseline: {', '.join(m['mitigation'] for m in helps) or 'none'}; higher: "
-            f"{', '.join(worse) or 'none'} (beyond the noise of {noise:.2f} % and a sign test "
-            "at 5 %).")
+            f"{', '.join(worse) or 'none'} (beyond the states' median error, the runs' own "
+            "where refined, and a sign test at 5 %).")
 
 
 def _line_answer(study, line, threshold, noise):
@@ -251,9 +276,15 @@ def _line_answer(study, line, threshold, noise):
         split = [abs(p["split_pct"]) for p in pts]
         pull = [abs(p["pull_deg"]) for p in pts]
         spread = max(split) - min(split) if split else math.nan
-        resolved = spread > 100 * noise.get("split_change_rel", 0.0)
+        errors = [p.get("split_pct_error", math.nan) for p in pts]
+        error = max([e for e in errors if math.isfinite(e)]
+                    or [100 * noise.get("split_change_rel", 0.0)])
+        resolved = spread > 2 * error
+        open_ = sum(p.get("split_pct_converged") == "no" for p in pts)
         parts.append(f"at μs = {mu_s:g} the |split| runs {min(split):.2f} ... {max(split):.2f} % "
-                     f"({'beyond' if resolved else 'within'} the noise; above {threshold:g} % at "
+                     f"({'beyond' if resolved else 'within'} its errors"
+                     + (f", {open_} not converged" if open_ else "")
+                     + f"; above {threshold:g} % at "
                      f"{sum(v > threshold for v in split)} of {len(split)} values) and the "
                      f"|pull| {min(pull):.2f} ... {max(pull):.2f} deg")
     values = ", ".join(f"{v:g}" for v in _values(line))

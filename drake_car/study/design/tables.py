@@ -42,6 +42,14 @@ def map_grid(study, spec, rows, outcome="split_change_rel", scale=100.0):
     return xs, ys, values
 
 
+def map_flags(study, spec, rows, column, flag):
+    """Booleans[j][i] of a map: its row's ``column`` equals ``flag``."""
+    flags = np.zeros((spec.points, spec.points), dtype=bool)
+    for k, row in enumerate(rows):
+        flags[k // spec.points, k % spec.points] = row.get(column) == flag
+    return flags
+
+
 def sobol_tables(study, rows):
     """{outcome: index rows} from the Sobol runs (in sample order); None if a run failed
     (Saltelli's estimators need every point)."""
@@ -63,6 +71,8 @@ def group_summary(name, rows, study, reason=""):
     """The distributions of the split and the pull over ``rows`` (its ok runs)."""
     ok = [r for r in rows if r["status"] == "ok"]
     return {"mitigation": name, "reason": reason, "runs": len(ok),
+            "not_converged": sum("no" in (r.get("split_change_rel_converged"),
+                                          r.get("pull_deg_converged")) for r in ok),
             "split": distribution_summary([100 * r["split_change_rel"] for r in ok],
                                           100 * study.split_threshold),
             "pull": distribution_summary([r["pull_deg"] for r in ok],
@@ -90,19 +100,37 @@ def mitigation_table(study, rows, baseline):
 
 
 def paired_change(base, other):
-    """|split| of ``other`` minus that of ``base`` in the same states (sample -> row), in %:
-    the median, the share of states where it is lower, and the two-sided sign test's p (the
-    chance of so lopsided a count of lower and higher states if neither were better)."""
-    changes = [100 * (abs(other[k]["split_change_rel"]) - abs(base[k]["split_change_rel"]))
-               for k in sorted(base.keys() & other.keys())]
-    changes = [c for c in changes if math.isfinite(c)]
-    if not changes:
+    """|split| of ``other`` minus that of ``base`` in the same states (sample -> row), in %,
+    each state's change against its own error (the two runs' ``split_change_rel_error``
+    summed): the median change, the share of states where it is lower beyond that error (and
+    higher), the states within it (``unresolved``) and those with a run not converged, the
+    median error, and the two-sided sign test's p over the resolved states (the chance of so
+    lopsided a count of lower and higher states if neither were better). Rows without errors
+    (none has the column) count as exact, and no median error is given."""
+    key, err = "split_change_rel", "split_change_rel_error"
+    pairs = [(100 * (abs(other[k][key]) - abs(base[k][key])),
+              100 * (_error(other[k], err) + _error(base[k], err)),
+              "no" in (other[k].get(f"{key}_converged"), base[k].get(f"{key}_converged")))
+             for k in sorted(base.keys() & other.keys())]
+    pairs = [p for p in pairs if math.isfinite(p[0])]
+    if not pairs:
         return {"n": 0}
-    lower, higher = sum(c < 0 for c in changes), sum(c > 0 for c in changes)
+    own = any(err in row for row in (*base.values(), *other.values()))
+    lower = sum(c < -e for c, e, _ in pairs)
+    higher = sum(c > e for c, e, _ in pairs)
     n, k = lower + higher, min(lower, higher)
     p = min(1.0, 2 * sum(math.comb(n, i) for i in range(k + 1)) / 2 ** n) if n else 1.0
-    return {"n": len(changes), "median": float(np.median(changes)),
-            "share_lower": lower / len(changes), "sign_test_p": p}
+    return {"n": len(pairs), "median": float(np.median([c for c, _, _ in pairs])),
+            "share_lower": lower / len(pairs), "share_higher": higher / len(pairs),
+            "unresolved": len(pairs) - n, "not_converged": sum(u for _, _, u in pairs),
+            "sign_test_p": p} | ({"error_median": float(np.median([e for _, e, _ in pairs]))}
+                                 if own else {})
+
+
+def _error(row, column):
+    """A row's error in ``column`` (0 where it has none: a row made without errors)."""
+    value = row.get(column, 0.0)
+    return value if math.isfinite(value) else 0.0
 
 
 def line_tables(study, rows):
@@ -114,9 +142,16 @@ def line_tables(study, rows):
             for k, value in enumerate(line.values):
                 row = next((r for r in rows if r["name"] == f"line{i}_mu{j}_{k:02d}"), None)
                 ok = row is not None and row["status"] == "ok"
-                points.append({"value": value, "mu_s": mu_s,
-                               "split_pct": 100 * row["split_change_rel"] if ok else math.nan,
-                               "pull_deg": row["pull_deg"] if ok else math.nan})
+                points.append({
+                    "value": value, "mu_s": mu_s,
+                    "split_pct": 100 * row["split_change_rel"] if ok else math.nan,
+                    "pull_deg": row["pull_deg"] if ok else math.nan,
+                    "split_pct_error": (100 * row.get("split_change_rel_error", math.nan)
+                                        if ok else math.nan),
+                    "pull_deg_error": row.get("pull_deg_error", math.nan) if ok else math.nan,
+                    "split_pct_converged": row.get("split_change_rel_converged", "-") if ok
+                    else "-",
+                    "pull_deg_converged": row.get("pull_deg_converged", "-") if ok else "-"})
         out.append({"key": line.key, "label": line.label or line.key,
                     "reason": " ".join(line.reason.split()), "points": points})
     return out

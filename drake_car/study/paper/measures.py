@@ -36,7 +36,8 @@ def claim_measures(table: dict, roles: dict):
     over runs is taken over each run's own value; its error is the largest of theirs
     (|max x - max y| <= max |x - y|), converged only if every run's is. Verdict: all
     ``decides`` ones hold; decided only if each is converged and its margin exceeds its error
-    (a count: converged)."""
+    (a count: converged, and the peak that makes it clear of the threshold by more than the
+    peak's error)."""
     names = {(c, f.number): n for n, (c, f) in roles.items()}
     of = {k: [names[(c, k)] for c in CASES] for k in (1, 2, 3)}
     a2, a3 = names[("a", 2)], names[("a", 3)]
@@ -81,6 +82,12 @@ def claim_measures(table: dict, roles: dict):
              decides=s == "left") for s in SIDES]
     six += [m(f"largest μ1/μs, {s} strut (it counts on reaching 1)", [f"mu1_peak_{s}"], [a2],
               ">=", 1, decides=False) for s in SIDES]
+    for count, peak in zip(six[:2], six[2:]):
+        # A count of threshold crossings is exact at each step, but it is decided only when
+        # the peak that makes it is clear of the threshold by more than the peak's error: a
+        # peak within its error of μs could cross it at a finer step.
+        if count["decided"] and peak["error"] is not None:
+            count["decided"] = peak["margin"] > peak["error"]
     return [one, two, three, four, five, six]
 
 
