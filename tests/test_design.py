@@ -21,7 +21,7 @@ from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as design_runs
 from drake_car.study.design import tables
 from drake_car.study.design.spec import (
-    Accuracy, Mitigation, load_study, outcomes, paper_value, rough_road, with_value)
+    OUTCOMES, Accuracy, Mitigation, load_study, outcomes, paper_value, rough_road, with_value)
 from drake_car.study.design.sensitivity import sobol_indices, sobol_points
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -161,7 +161,7 @@ def test_mitigations_are_ranked_state_by_state_and_only_beyond_the_noise():
 
 
 def test_mitigations_judge_each_state_against_its_runs_own_errors():
-    # Errors as accuracy.apply gives them (fractions of the corner load): a state whose change
+    # Errors as jam_cases.apply gives them (fractions of the corner load): a state whose change
     # is within the two runs' errors summed is neither lower nor higher.
     def rows(name, splits_pct, errors_pct, converged="yes"):
         return [{"role": "mitigation", "mitigation": name, "sample": k, "status": "ok",
@@ -201,7 +201,7 @@ def test_jam_cases_are_the_refined_parts_runs_at_or_above_the_jam_mu_s():
 
 def test_rows_carry_their_runs_own_errors_or_the_noise_sample_s():
     @dataclasses.dataclass
-    class Refined:  # what accuracy.apply reads of sweep.refine.Refined
+    class Refined:  # what jam_cases.apply reads of sweep.refine.Refined
         outcomes: dict
         steps_s: dict
 
@@ -238,12 +238,23 @@ def test_a_map_s_boundary_is_drawn_no_finer_than_each_cell_s_error_and_names_ope
                                         "The lasting split")
     assert "(within the error)" in text and "(beyond it)" in text
     assert "Not converged at the finest step tried" in text and "+0.90 / +1.10 / +0.90" in text
+    # Errors larger than the values (a cell not converged, its error the span of its steps)
+    # make no cell surely above the threshold: |v| - error is floored at 0, not folded up.
+    wide = [dict(r, split_change_rel=v / 100, split_change_rel_error=0.015,
+                 split_change_rel_converged="yes")
+            for r, v in zip(rows, [0.2, 0.3, 0.4] * 3)]
+    text = design_report.boundary_lines(STUDY, spec, wide, "split_change_rel", 100.0, 1.0,
+                                        "The lasting split")
+    assert text.count("from already at μs = 0.05 (within the error) to nowhere in the range "
+                      "(beyond it)") == 3
 
 
 def test_a_bad_accuracy_section_is_refused_by_its_key(tmp_path):
     for text, says in (("parts: [map, sobl]", "accuracy.parts: 'sobl' not a part"),
                        ("split_tolerance: 0.0", "accuracy.split_tolerance = 0.0 must be"),
-                       ("finest_step_s: .nan", "accuracy.finest_step_s = nan must be")):
+                       ("finest_step_s: .nan", "accuracy.finest_step_s = nan must be"),
+                       ("finest_step_s: 5.0e-4", "must be at most a quarter of the base"),
+                       ("parts: [map, map]", "must be a list of distinct parts")):
         spec = tmp_path / "study.yaml"
         spec.write_text(resource("scenes/studies/design.yaml").read_text()
                         + f"  accuracy: {{{text}}}\n")
@@ -341,3 +352,17 @@ def test_the_study_runs_on_another_tyre_file_laid_over_its_base_scene():
     with pytest.raises(SceneError, match="tyres"):
         load_study(resource("scenes/studies/design.yaml"), "study",
                    "{tyres: !MagicFormula {tir_fiel: x.tir}}")
+
+
+def test_the_noise_sample_leaves_out_the_pairs_of_refined_runs():
+    rows = [{"name": "map0_001", "role": "map", "status": "ok", "split_change_rel": 0.067},
+            {"name": "noise_map0_001", "role": "noise", "status": "ok", "of": "map0_001",
+             "split_change_rel": 0.050},  # a branch jump of a jam case
+            {"name": "mc_0000", "role": "mc", "status": "ok", "split_change_rel": 0.0050},
+            {"name": "noise_mc_0000", "role": "noise", "status": "ok", "of": "mc_0000",
+             "split_change_rel": 0.0052}]
+    for row in rows:
+        row.update({k: math.nan for k in OUTCOMES if k != "split_change_rel"})
+    assert tables.noise_levels(rows)["split_change_rel"] == pytest.approx(0.017)
+    assert tables.noise_levels(rows, exclude={"map0_001"})["split_change_rel"] == \
+        pytest.approx(0.0002)

@@ -83,13 +83,15 @@ def main(argv=None):
                   "ms", flush=True)
             refined = jam_cases.refine_jam_cases(
                 study, parts, lambda batch: run_scenes(batch, out_dir=sweep_dir, client=client,
-                                                       skip_failed=True))
+                                                       skip_failed=True,
+                                                       rerun_failed=args.rerun_failed))
     rows = design_analysis.table(study, parts, sweep_dir)
-    noise = design_tables.noise_levels(rows)
+    noise = design_tables.noise_levels(rows, exclude=set(jam))
     jam_cases.apply(rows, refined, noise)
     with output_folder(args.out / "study") as out:
         summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began,
                                           noise, jam_cases.summary(refined, rows, study))
+        summary["scene_text"] = args.scene_text or None
         write_csv(out / "table.csv", {k: [row[k] for row in rows] for k in rows[0]})
         write_json(out / "summary.json", summary)
     report = args.out / "report.md"

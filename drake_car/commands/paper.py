@@ -66,7 +66,7 @@ def main(argv=None):
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: every run at its scene's step only, no "
                         "numerical error estimated")
-    p.add_argument("--finest_step_s", type=cli.positive("--finest_step_s"), default=6.25e-5,
+    p.add_argument("--finest_step_s", type=cli.positive("--finest_step_s"), default=3.125e-5,
                    help="the finest step accuracy on demand may try (default: %(default)g)")
     p.add_argument("--budget_s", type=cli.positive("--budget_s"), default=1800.0,
                    help="no further halving once the refinement has taken this much wall "

@@ -7,12 +7,14 @@ one step (``outcomes_of``), keyed (subject, outcome): a subject is a run's name,
 by "|" for an outcome of several runs (it is computed only where all of them ran at that step).
 
 Convergence (``classify``), on the values at h, h/2, h/4, ... (the last three): with
-d1 = |x(h/2^(k-2)) - x(h/2^(k-1))| and d2 = |x(h/2^(k-1)) - x(h/2^k)|, an outcome has converged
-when d2 is within its tolerance and the differences shrink as a scheme of ``order`` p makes them
-shrink (d2 ≤ 1.5 · 2^-p · d1: the slack for a ratio measured on two differences), or both
-differences are below a tenth of the tolerance (three steps agree where there is nothing left
-to shrink, e.g. a count). Its error is then d2 (for p = 1 Richardson's estimate of the finer
-value's error; an overestimate where it converges faster); the observed order is log2(d1/d2).
+d1 = |x(h/2^(k-2)) - x(h/2^(k-1))| and d2 = |x(h/2^(k-1)) - x(h/2^k)|, an outcome's error is
+max(d2, 2^-p · d1) (for p = 1, d2 is Richardson's estimate of the finer value's error; the
+floor keeps a branch jump followed by two agreeing steps, 6.7 / 5.0 / 5.0, from passing as
+exact), and it has converged when that error is within its tolerance and the differences
+shrink as a scheme of ``order`` p makes them shrink (d2 ≤ 1.5 · 2^-p · d1: the slack for a
+ratio measured on two differences), or both differences are below a tenth of the tolerance
+(three steps agree where there is nothing left to shrink, e.g. a count: three equal values);
+the observed order is log2(d1/d2).
 Otherwise it has not converged: its error is the span of the last three values and the values
 at every step are kept, never a number with a small error. Two steps alone cannot tell
 "converged" from "both on the same wrong branch" of a stick-slip outcome, hence three.
@@ -58,8 +60,12 @@ def classify(values, tolerance, order=1):
     observed = math.log2(d1 / d2) if d1 > 0 and d2 > 0 else None
     shrinks = d2 <= SLACK * 2.0 ** -order * d1
     quiet = max(d1, d2) <= NOISE * tolerance
-    if d2 <= tolerance and (shrinks or quiet):
-        return {"converged": True, "value": x2, "error": d2, "observed_order": observed}
+    # The finest value's error: d2, but no less than d1 shrunk once at the scheme's order. A
+    # last difference far below that (6.7, 5.0, 5.0: a branch jump, then two steps on the new
+    # branch) is not the scheme's error shrinking: two values on a branch are not three.
+    error = max(d2, 2.0 ** -order * d1)
+    if error <= tolerance and (shrinks or quiet):
+        return {"converged": True, "value": x2, "error": error, "observed_order": observed}
     return {"converged": False, "value": x2, "error": max(x0, x1, x2) - min(x0, x1, x2),
             "observed_order": observed}
 

@@ -364,21 +364,21 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
 
 
 def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
-               out_dir=None, client=None, skip_failed=False) -> dict:
+               out_dir=None, client=None, skip_failed=False, rerun_failed=False) -> dict:
     """name -> Run for name -> Scene, run as a sweep (see the module), in the scenes' order.
     ``out_dir`` None: the results are kept in memory only; a folder: they are written there
     too, as ``run_sweep`` does (a restart reuses its runs). On ``client`` if given (e.g. one
     cluster for the rounds of ``sweep.refine``), else as ``run_sweep``. If any run failed,
     raises the first failed run's error, in the scenes' order (``failure``), after all have
     run; with ``skip_failed`` leaves the failed runs out instead (their record is in
-    ``out_dir``)."""
+    ``out_dir``, where ``rerun_failed`` runs them again as ``run_sweep`` does)."""
     jobs = jobs_of(scenes)
     results = {}
     if not jobs:
         return {}
     if out_dir is not None:
         run_sweep(scenes, out_dir, client=client, scheduler=scheduler, workers=workers,
-                  progress=progress, jobs=jobs)
+                  progress=progress, jobs=jobs, rerun_failed=rerun_failed)
         results = {key: load_run(out_dir, key) for key in jobs}
     else:
         def keep(job, record, result):

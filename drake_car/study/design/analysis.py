@@ -35,9 +35,9 @@ def table(study, parts, sweep_dir):
 
 def analyse(study, rows, out, sweep, wall_s, noise, acc=None):
     """The study's summary (what ``design_report.report`` writes up); figures into ``out``.
-    ``rows``: the table with every row's errors (``accuracy.apply``); ``noise``: the half-step
+    ``rows``: the table with every row's errors (``jam_cases.apply``); ``noise``: the half-step
     sample's levels (``tables.noise_levels`` of the rows before); ``acc``: the jam cases'
-    ``accuracy.summary`` (None: not refined)."""
+    ``jam_cases.summary`` (None: not refined)."""
     threshold = 100 * study.split_threshold
     outcomes_drawn = (("split_change_rel", 100.0, threshold,
                        "lasting front load split change [% of corner load]"),

@@ -53,6 +53,9 @@ def report(s, figures=""):
              "off.", ""]
     lines += [f"- {line}" for line in s["answers"]] + [""]
     lines += ["## How it was made", ""]
+    if s.get("scene_text"):
+        lines += [f"- Laid over the study's base scene, so over every run (`--scene_text`): "
+                  f"`{s['scene_text']}`."]
     lines += [f"- {line}" for line in s["method"]] + [""]
     lines += ["## Factors and ranges", "", "| factor | range | the paper's car | why |",
               "|---|---|---|---|"]
@@ -152,7 +155,7 @@ def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0
     parts = []
     for j, y in enumerate(ys):
         v = np.abs(values[j])
-        sure = _crossing(xs, v - errors[j], threshold)
+        sure = _crossing(xs, np.maximum(v - errors[j], 0.0), threshold)
         maybe = _crossing(xs, v + errors[j], threshold)
         if sure != maybe:
             where = (f"from {_where(maybe, xs, fx.label)} (within the error) to "

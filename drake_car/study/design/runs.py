@@ -16,7 +16,7 @@ from drake_car.study.design.sensitivity import map_points, sobol_points
 def quick(study):
     """A smoke version of ``study`` (``--quick``): every phase shortened, 2 × 2 maps, the
     smallest Sobol sample, 4 Monte-Carlo states, 2 per mitigation, 2 noise runs, each line's
-    first two values at one μs."""
+    first two values at one μs, the jam cases refined in one round (1/2 and 1/4 of the step)."""
     t = study.base.manoeuvre.timeline
     timeline = dataclasses.replace(t, settle_s=0.1, speed_up_s=0.6, straight_s=0.3,
                                    steer_s=0.6, calm_s=0.5)
@@ -28,6 +28,8 @@ def quick(study):
                                                               start_m=1.0, length_m=2.0,
                                                               spacing_m=0.5),
         mitigation_samples=2, noise_samples=2, pull_distance_m=2.0,
+        accuracy=dataclasses.replace(study.accuracy,
+                                     finest_step_s=study.base.plant.time_step / 4),
         lines=[dataclasses.replace(line, values=line.values[:2]) for line in study.lines],
         line_mu_s=study.line_mu_s[:1])
 

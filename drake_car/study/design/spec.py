@@ -94,8 +94,9 @@ class Accuracy:
     ``finest_step_s``, within ``budget_s`` of wall) until its lasting split and its pull agree
     within their tolerances (``sweep.refine``). Where a dry strut jams, its lasting state takes
     one of two branches that the step decides (the paper's study: 5.0 or 6.7 % of the corner
-    load); below ``jam_mu_s`` the rods stick for good and the half-step noise sample speaks for
-    the runs. Sobol's sample is left out by default: its 200-odd jam points would cost 6-16
+    load). ``jam_mu_s`` [EST]: the paper's "very high" set 3 is μs 0.4, its "practically
+    realistic" 0.2; runs below it are spoken for by the half-step noise sample (the pairs of
+    refined runs left out of it). Sobol's sample is left out by default: its 200-odd jam points would cost 6-16
     times their runs."""
 
     jam_mu_s: float = 0.3
@@ -151,11 +152,14 @@ def load_study(path, child=None, scene_text=None) -> DesignStudy:
     except SceneError as e:
         raise SceneError(f"{path}: {e}") from None
     _check_rough_road(study, path)
-    _check_accuracy(study.accuracy, path)
+    _check_accuracy(study.accuracy, path, study.base.plant.time_step)
     return study
 
 
-def _check_accuracy(a: Accuracy, path):
+def _check_accuracy(a: Accuracy, path, step_s):
+    if not isinstance(a.parts, list) or len(set(a.parts)) != len(a.parts):
+        raise SceneError(f"{path}: accuracy.parts = {a.parts!r} must be a list of distinct "
+                         f"parts (of {', '.join(PARTS)})")
     unknown = [p for p in a.parts if p not in PARTS]
     if unknown:
         raise SceneError(f"{path}: accuracy.parts: {', '.join(map(repr, unknown))} not a part "
@@ -164,6 +168,10 @@ def _check_accuracy(a: Accuracy, path):
         value = getattr(a, key)
         if not (math.isfinite(value) and value > 0):
             raise SceneError(f"{path}: accuracy.{key} = {value} must be a positive number")
+    if a.finest_step_s > step_s / 4 * (1 + 1e-9):
+        raise SceneError(f"{path}: accuracy.finest_step_s = {a.finest_step_s:g} s must be at "
+                         f"most a quarter of the base scene's step ({step_s:g} s): the first "
+                         "round already runs every refined run at 1/2 and 1/4 of it")
     if a.budget_s is not None and not a.budget_s > 0:
         raise SceneError(f"{path}: accuracy.budget_s = {a.budget_s} must be positive (or "
                          "left out: no budget)")

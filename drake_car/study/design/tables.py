@@ -13,13 +13,15 @@ from drake_car.study.design.sensitivity import factor_values, sobol_indices
 SOBOL_OUTCOMES = ("split_change_rel", "rack_force_change_N")
 
 
-def noise_levels(table):
+def noise_levels(table, exclude=()):
     """Per outcome, the largest |x(dt) - x(dt/2)| over the half-step pairs (the noise below
-    which no boundary or ranking is drawn)."""
+    which no boundary or ranking is drawn), leaving out the pairs whose original is in
+    ``exclude`` (the runs refined for accuracy: their own errors stand for them, and a branch
+    jump of theirs is not the others' noise)."""
     by_name = {row["name"]: row for row in table}
     levels = {}
     for row in table:
-        if row["role"] != "noise" or row["status"] != "ok":
+        if row["role"] != "noise" or row["status"] != "ok" or row["of"] in exclude:
             continue
         original = by_name.get(row["of"])
         if original is None or original["status"] != "ok":

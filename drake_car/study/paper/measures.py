@@ -83,10 +83,11 @@ def claim_measures(table: dict, roles: dict):
     six += [m(f"largest μ1/μs, {s} strut (it counts on reaching 1)", [f"mu1_peak_{s}"], [a2],
               ">=", 1, decides=False) for s in SIDES]
     for count, peak in zip(six[:2], six[2:]):
-        # A count of threshold crossings is exact at each step, but it is decided only when
-        # the peak that makes it is clear of the threshold by more than the peak's error: a
-        # peak within its error of μs could cross it at a finer step.
-        if count["decided"] and peak["error"] is not None:
+        # A count of threshold crossings is exact at each step, but a count of 0 is decided
+        # only when the peak is clear of μs by more than the peak's error: a peak within its
+        # error of μs could reach it at a finer step. (Once μ1 reaches μs the peak is exactly
+        # 1, the law's cap: a count above 0 rests on the count alone.)
+        if count["decided"] and count["value"] == 0 and peak["error"] is not None:
             count["decided"] = peak["margin"] > peak["error"]
     return [one, two, three, four, five, six]
 
