@@ -33,9 +33,8 @@ def resolve_vertical(scene):
             raise ParameterError(f"car.tyre.{name}", mine,
                                  f"has no effect with tyres.vertical_from_file (the file "
                                  f"gives {value:g}); leave it out (a scene saved on another "
-                                 "tyre file holds that file's value: start from the scene "
-                                 "file it was made from, or lay tyres.vertical_from_file: "
-                                 "false over it)")
+                                 "tyre file holds that file's value: lay the new file over "
+                                 "the scene file it was made from)")
     car = dataclasses.replace(scene.car, tyre=dataclasses.replace(
         given, radial_stiffness_Npm=stiffness, radial_damping_Nspm=damping))
     return dataclasses.replace(scene, car=car)
