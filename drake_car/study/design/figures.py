@@ -35,8 +35,8 @@ def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
                     ax.plot(x, y, "x", color="0.3", ms=7)
     if unconverged is not None and np.any(unconverged):
         jj, ii = np.nonzero(np.asarray(unconverged))
-        ax.plot(np.asarray(xs)[ii], np.asarray(ys)[jj], "s", mfc="none", mec="k", ms=22,
-                label="not converged")
+        ax.plot(np.asarray(xs)[ii], np.asarray(ys)[jj], "s", mfc="none", mec="k", ms=22)
+        ax.plot([], [], "s", mfc="none", mec="k", ms=9, label="not converged")  # legend's
     ax.plot(*paper, marker="*", color="gold", mec="k", ms=16, label="the paper's car",
             ls="none")
     for j, y in enumerate(ys):
