@@ -15,7 +15,8 @@ DIR/sweep/ (a rerun reuses every finished run):
 Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/: table.csv
 (one row per run), the maps, lines.png, sobol.png, monte_carlo.png and summary.json.
 
-  python experiments/design_study.py --out results/design          (about 30 min here)
+  python experiments/design_study.py --out results/design          (80 min on this 2-core
+      machine beside other work: 39 for its runs, 37 converging its jam cases)
   python experiments/design_study.py --out /tmp/design --quick     (a smoke run, ~2 min)
   python experiments/design_study.py --out results/design_sedan \
       --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
