@@ -20,11 +20,13 @@ Accuracy on demand (skip it with --no_verify): every run is repeated at dt/2 and
 runs whose deciding outcomes have not converged within their tolerances
 (``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
 a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
-(``sweep.refine``). Every error is a run's own difference between steps; a claim is decided
-only where its margin exceeds it, else the report says "undecided at the finest step tried".
-Each round of runs goes as one sweep (``sweep.runner.run_scenes``: in parallel on one
-cluster for the whole job, a progress bar over the runs on a terminal): the first round is the
-six runs, their dt/2 and dt/4 repetitions and the six with the paper's drive. Options and scenes: --scene_text is laid over every run's scene (e.g.
+(``sweep.refine``). Every error is a run's own difference between steps plus the solver's: a
+twin of each run at dt and dt/2 with SAP's tolerance loosened twice
+(``systems.sap_ballast``); a claim is decided only where its margin exceeds it, else the report
+says "undecided at the finest step tried". Each round of runs goes as one sweep
+(``sweep.runner.run_scenes``: in parallel on one cluster for the whole job, a progress bar over
+the runs on a terminal): the first round is the six runs, their dt/2 and dt/4 repetitions,
+their solver twins and the six with the paper's drive. Options and scenes: --scene_text is laid over every run's scene (e.g.
 "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
 added to one run's scene (so its saved scene says so).
 
@@ -51,7 +53,7 @@ from drake_car.study.paper.outcomes import (
     DRIVES, at_one_step, outcomes_of_runs, read_outcomes, study_outcomes, tolerances,
     write_outcomes)
 from drake_car.study.paper.report import report, summary
-from drake_car.sweep.refine import halved, refine
+from drake_car.sweep.refine import halved, loosened, refine
 from drake_car.sweep.runner import cores, dask_client, run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
@@ -101,7 +103,7 @@ def main(argv=None):
             name + PAPER_DRIVE: dataclasses.replace(s, drive=PrescribedRotation(),
                                                     visualization=NoVisualization())
             for name, s in scenes.items()}
-        count = len(scenes) * (1 if args.no_verify else 3) + len(locked)
+        count = len(scenes) * (1 if args.no_verify else 5) + len(locked)
         with dask_client(args.scheduler, min(args.workers or cores(), count)) as client:
             def simulate(batch):
                 return run_scenes(batch, client=client, out_dir=args.runs_dir)
@@ -119,7 +121,7 @@ def main(argv=None):
                 refined = refine(scenes, outcomes_of_runs(roles, timeline), tolerances(),
                                  simulate, finest_step_s=args.finest_step_s,
                                  budget_s=args.budget_s, drives=DRIVES, first_extra=locked,
-                                 halve=_unseen_halved)
+                                 halve=_unseen_halved, solver_twin=_unseen_loosened)
                 runs = refined.runs[0]
                 locked_runs = {name: refined.runs["extra"][name + PAPER_DRIVE]
                                for name in scenes if locked}
@@ -166,6 +168,11 @@ def main(argv=None):
 def _unseen_halved(scene, halvings):
     """A refinement's run: the scene at a finer step, without a replay."""
     return halved(dataclasses.replace(scene, visualization=NoVisualization()), halvings)
+
+
+def _unseen_loosened(scene):
+    """A solver twin: the scene with SAP's tolerance loosened twice, without a replay."""
+    return loosened(dataclasses.replace(scene, visualization=NoVisualization()))
 
 
 def _cpu_s():

@@ -15,7 +15,7 @@ from drake_car.law.tyre.magic_formula import MagicFormulaTyre, relaxation_length
 from drake_car.law.tyre.contact import RadialTyre
 from drake_car.law.tyre.plausibility import wheel_load_note
 from drake_car.model.anti_roll_bar import anti_roll_bar_gain, time_step_limit_s
-from drake_car.model.car import add_car
+from drake_car.model.car import add_car, forward_speed_index, rolling_momentum_scale
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import add_drive_actuators
 from drake_car.model.geometry import design_axle_loads_N
@@ -31,6 +31,7 @@ from drake_car.sim.actuation import ActuationWiring
 from drake_car.sim.drive_wiring import add_drive, driveshafts
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
+from drake_car.systems.sap_ballast import add_sap_ballast, connect_sap_ballast
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 from drake_car.systems.tyre import TyreSystem
 
@@ -105,9 +106,14 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
     if column.own_group:
         wiring.add("steering_column", len(column.pairs), pd=True)
     pacer = add_sap_pacer(plant) if scene.simulator.sap_pacer else None
+    factor = scene.simulator.sap_tolerance_factor
+    ballast = add_sap_ballast(plant) if factor > 1.0 else None
     plant.Finalize()
     if pacer is not None:
         connect_sap_pacer(builder, plant, pacer)
+    if ballast is not None:  # SAP's tolerance loosened by the factor (the solver axis)
+        connect_sap_ballast(builder, plant, ballast, speed_index=forward_speed_index(car),
+                            scale_per_speed=rolling_momentum_scale(car), factor=factor)
 
     # 2. Anti-roll bars: the arms' angles coupled left to right (a matrix, no Python).
     bars = anti_roll_bar_gain(plant, car, car.arm_rates) if car.arm_rates else None
@@ -178,7 +184,8 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         builder.Connect(combine.get_output_port(0), plant.get_applied_spatial_force_input_port())
 
     # 8. Loggers: one per channel group asked for; the car's state every step.
-    loggers, columns = _add_loggers(builder, plant, car, tyre, friction, pacer, scene)
+    loggers, columns = _add_loggers(builder, plant, car, tyre, friction,
+                                    [i for i in (pacer, ballast) if i is not None], scene)
     velocity_logger = LogVectorOutput(plant.get_state_output_port(car.instance), builder,
                                       scene.time_step_s)
     velocity_logger.set_name("car_state_every_step")
@@ -324,14 +331,14 @@ def _let_go(builder, plant, car, scene, column, wiring):
     builder.Connect(system.actuation_output_port(), plant.get_actuation_input_port(instance))
 
 
-def _add_loggers(builder, plant, car, tyre, friction, pacer, scene):
+def _add_loggers(builder, plant, car, tyre, friction, helpers, scene):
     groups = channels_of(scene)
     period = scene.logging.record_period_s
     loggers, columns = {}, {}
     car_groups = [g for g in groups if g in CAR_CHANNELS]
     if car_groups:
         channels = builder.AddSystem(CarChannels(plant, car, car_groups,
-                                                 pacer_instance=pacer))
+                                                 helper_instances=helpers))
         channels.set_name("car_channels")
         channels.connect(builder, plant)
         for group in car_groups:

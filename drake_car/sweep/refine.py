@@ -19,6 +19,15 @@ Otherwise it has not converged: its error is the span of the last three values a
 at every step are kept, never a number with a small error. Two steps alone cannot tell
 "converged" from "both on the same wrong branch" of a stick-slip outcome, hence three.
 
+The solver axis (``solver_twin``): SAP's Newton iterations stop at a relative tolerance εr
+(1e-6) of the system's momentum that no step removes (``systems.sap_ballast``). A twin of each
+run at εr loosened twice (``loosened``) at the steps ``solver_levels`` (h and h/2 by default),
+in the first round's sweep, gives each outcome's solver error to first order in εr: the
+largest |x(2 εr) - x(εr)| over those steps. It is the floor below which the step's
+differences need not shrink: an outcome whose last two differences are within it has
+converged as far as the step can take it (``floored``), and refining it further is not done.
+An outcome's budget is its step error plus its solver error; ``limited_by`` names the larger.
+
 The loop (``refine``): the first round runs every scene at h, h/2 and h/4 (one sweep); each
 further round halves the step of the runs an unconverged outcome needs, until every outcome
 has converged, the next step would be finer than ``finest_step_s``, or ``budget_s`` of wall
@@ -46,10 +55,19 @@ def halved(scene, halvings=1):
     return dataclasses.replace(scene, plant=config)
 
 
-def classify(values, tolerance, order=1):
+def loosened(scene, factor=2.0):
+    """``scene`` with SAP's relative tolerance loosened by ``factor`` (the solver axis' twin;
+    ``scene.scene.Simulator.sap_tolerance_factor``)."""
+    simulator = dataclasses.replace(
+        scene.simulator, sap_tolerance_factor=scene.simulator.sap_tolerance_factor * factor)
+    return dataclasses.replace(scene, simulator=simulator)
+
+
+def classify(values, tolerance, order=1, floor=0.0):
     """Convergence of an outcome from its ``values`` at successive halvings of the step (see
-    the module). Returns {"converged", "value" (the finest), "error", "observed_order" (None
-    when not measurable)}."""
+    the module); ``floor``: its solver error, below which differences need not shrink.
+    Returns {"converged", "value" (the finest), "error", "observed_order" (None when not
+    measurable)}."""
     values = [float(v) for v in values]
     last = values[-1]
     if len(values) < 3:
@@ -59,12 +77,13 @@ def classify(values, tolerance, order=1):
     d1, d2 = abs(x0 - x1), abs(x1 - x2)
     observed = math.log2(d1 / d2) if d1 > 0 and d2 > 0 else None
     shrinks = d2 <= SLACK * 2.0 ** -order * d1
-    quiet = max(d1, d2) <= NOISE * tolerance
+    quiet = max(d1, d2) <= max(NOISE * tolerance, floor)
     # The finest value's error: d2, but no less than d1 shrunk once at the scheme's order. A
     # last difference far below that (6.7, 5.0, 5.0: a branch jump, then two steps on the new
     # branch) is not the scheme's error shrinking: two values on a branch are not three.
     error = max(d2, 2.0 ** -order * d1)
-    if error <= tolerance and (shrinks or quiet):
+    floored = max(d1, d2) <= floor  # the step has taken it as far as the solver lets it
+    if (error <= tolerance and (shrinks or quiet)) or floored:
         return {"converged": True, "value": x2, "error": error, "observed_order": observed}
     return {"converged": False, "value": x2, "error": max(x0, x1, x2) - min(x0, x1, x2),
             "observed_order": observed}
@@ -74,7 +93,8 @@ def classify(values, tolerance, order=1):
 class Refined:
     """What ``refine`` found. ``outcomes``: (subject, outcome) -> {"unit", "tolerance",
     "steps_s" and "values" (at each step tried), "converged", "value", "error",
-    "observed_order", "step_s" (the finest tried)}; ``runs``: level -> name -> Run (level k:
+    "observed_order", "step_s" (the finest tried), "solver_error" (None without a solver
+    twin), "limited_by" ("step" or "solver")}; ``runs``: level -> name -> Run (level k:
     the scene's step / 2**k); ``steps_s``: name -> the steps it ran at; ``needed_step_s``:
     name -> the finest step it ran at (None if a budget stopped it unconverged there: see
     ``converged_runs``); ``rounds``: [{"step_s": steps, "runs": count, "wall_s"}];
@@ -102,7 +122,8 @@ def subjects_runs(subject):
 
 
 def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
-           finest_step_s=None, budget_s=None, drives=None, first_extra=None, halve=halved):
+           finest_step_s=None, budget_s=None, drives=None, first_extra=None, halve=halved,
+           solver_twin=None, solver_levels=(0, 1)):
     """Refines ``scenes`` (name -> Scene) until the outcomes converge (see the module).
 
     ``outcomes_of(runs)``: runs (name -> Run, all at one halving) -> {(subject, outcome):
@@ -112,10 +133,17 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
     convergence is refined for (default: every outcome with a tolerance); the others are
     classified on the steps their runs ran at. ``first_extra``: scenes run in the first round's
     sweep too, not refined (returned as level "extra"). ``halve(scene, k)``: the scene at
-    its step / 2**k (default ``halved``)."""
+    its step / 2**k (default ``halved``). ``solver_twin(scene)``: the scene with SAP's
+    tolerance loosened (``loosened``), run at the halvings ``solver_levels`` in the first round
+    (level "solver k"): the solver axis (see the module); None: no solver axis."""
     began = time.perf_counter()
     drives = set(tolerances) if drives is None else set(drives)
     runs, steps, rounds, values, failed = {}, {n: [] for n in scenes}, [], {}, set()
+    twins = {} if solver_twin is None else {
+        f"{_key(n, lv)} (solver twin)": (n, lv, solver_twin(halve(scenes[n], lv) if lv
+                                                            else scenes[n]))
+        for lv in solver_levels for n in scenes}
+    solver = {}  # (subject, outcome) -> solver error
     todo = {0: list(scenes), 1: list(scenes), 2: list(scenes)}
     stopped = "every outcome converged"
     while True:
@@ -124,12 +152,18 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
             for name in names:
                 batch[_key(name, level)] = halve(scenes[name], level) if level else scenes[name]
         extra = dict(first_extra or {}) if not rounds else {}
+        twin_batch = {k: t[2] for k, t in twins.items()} if not rounds else {}
         round_began = time.perf_counter()
-        done = simulate(batch | extra)
+        done = simulate(batch | extra | twin_batch)
         rounds.append({"step_s": sorted({s.plant.time_step for s in batch.values()}),
-                       "runs": len(batch), "wall_s": time.perf_counter() - round_began})
+                       "runs": len(batch) + len(twin_batch),
+                       "wall_s": time.perf_counter() - round_began})
         if extra:
             runs["extra"] = {n: done[n] for n in extra}
+        for key in twin_batch:  # a twin that failed gives no solver error
+            name, level, _ = twins[key]
+            if key in done:
+                runs.setdefault(f"solver {level}", {})[name] = done[key]
         for level, names in todo.items():
             lost = [n for n in names if _key(n, level) not in done]
             failed.update(lost)  # a run that failed is refined no further
@@ -139,7 +173,9 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
                 steps[name].append(batch[_key(name, level)].plant.time_step)
             for key, (value, unit) in outcomes_of(runs[level]).items():
                 values.setdefault(key, {"unit": unit, "by_level": {}})["by_level"][level] = value
-        found = _classified(values, tolerances, order, scenes)
+        if twin_batch:
+            solver = _solver_errors(runs, values, outcomes_of, solver_levels)
+        found = _classified(values, tolerances, order, scenes, solver if twins else None)
         open_ = {k for k, o in found.items() if k[1] in drives and not o["converged"]
                  and not failed.intersection(subjects_runs(k[0]))}
         if not open_:
@@ -167,25 +203,41 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
                 for lv in range(len(steps[n]), top + 1):
                     if n not in todo.get(lv, []):
                         todo.setdefault(lv, []).append(n)
-    return Refined(_classified(values, tolerances, order, scenes), runs, steps, rounds,
-                   time.perf_counter() - began, stopped, sorted(failed))
+    return Refined(_classified(values, tolerances, order, scenes, solver if twins else None),
+                   runs, steps, rounds, time.perf_counter() - began, stopped, sorted(failed))
+
+
+def _solver_errors(runs, values, outcomes_of, levels):
+    """(subject, outcome) -> the largest |x(twin) - x| over the ``levels`` where both ran."""
+    solver = {}
+    for level in levels:
+        for key, (value, _) in outcomes_of(runs.get(f"solver {level}", {})).items():
+            if level in values.get(key, {}).get("by_level", {}):
+                solver[key] = max(solver.get(key, 0.0),
+                                  abs(value - values[key]["by_level"][level]))
+    return solver
 
 
 def _key(name, level):
     return name if level == 0 else f"{name} at dt/{2 ** level}"
 
 
-def _classified(values, tolerances, order, scenes):
+def _classified(values, tolerances, order, scenes, solver=None):
+    """Outcome rows (``Refined.outcomes``); ``solver``: (subject, outcome) -> solver error, or
+    None without a solver axis."""
     out = {}
     for (subject, outcome), v in values.items():
         levels = sorted(v["by_level"])
         series = [v["by_level"][lv] for lv in levels]
         base = scenes[subjects_runs(subject)[0]].plant.time_step
         tolerance = tolerances.get(outcome)
-        found = classify(series, math.inf if tolerance is None else tolerance, order)
+        floor = None if solver is None else solver.get((subject, outcome))
+        found = classify(series, math.inf if tolerance is None else tolerance, order,
+                         floor or 0.0)
         out[(subject, outcome)] = {
             "unit": v["unit"], "tolerance": tolerance, "steps_s": [base / 2 ** lv for lv in levels],
-            "values": series, "step_s": base / 2 ** levels[-1], **found}
+            "values": series, "step_s": base / 2 ** levels[-1], **found, "solver_error": floor,
+            "limited_by": "solver" if floor is not None and floor > found["error"] else "step"}
         if tolerance is None:
             out[(subject, outcome)]["converged"] = None  # no tolerance: not judged
     return out
