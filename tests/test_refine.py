@@ -286,28 +286,38 @@ def test_a_floor_of_the_solver_s_size_need_not_shrink():
     assert classify(values, 0.02, floor=0.001)["converged"] is False
 
 
-def test_the_solver_twins_run_in_the_first_round_and_floor_the_refinement():
-    """A run whose outcome wobbles by 3e-3 at every halving (never shrinking) refines to the
-    finest step without a solver axis; with twins that move it by 4e-3 (SAP's tolerance
-    loosened twice) it stops after the first round, its budget limited by the solver."""
+def test_the_solver_twins_run_at_the_finest_step_and_floor_the_verdict():
+    """Runs whose outcome wobbles by 3e-3 at every halving (never shrinking) are not converged
+    on the step alone; twins at their finest step that move it by 4e-3 (SAP's tolerance
+    loosened twice) put that wobble within the solver's floor: converged, the budget limited
+    by the solver. Twins that move it by 1e-3 do not."""
     def twin(scene):
         return dataclasses.replace(scene, name=scene.name + " twin")
 
-    def wobbly(runs):
-        out = {}
-        for name, run in runs.items():
-            k = round(math.log2(1e-3 / run.scene.plant.time_step))
-            x = 1.0 + 3e-3 * (k % 2) + (4e-3 if run.scene.name.endswith("twin") else 0.0)
-            out[(name, "x")] = (x, "m")
-        return out
-    plain = refine(scenes(), wobbly, {"x": 1e-3}, Simulator(), halve=fake_halve,
+    def wobbly(shift):
+        def outcomes(runs):
+            out = {}
+            for name, run in runs.items():
+                k = round(math.log2(1e-3 / run.scene.plant.time_step))
+                x = 1.0 + 3e-3 * (k % 2) + (shift if run.scene.name.endswith("twin") else 0.0)
+                out[(name, "x")] = (x, "m")
+            return out
+        return outcomes
+    plain = refine(scenes(), wobbly(4e-3), {"x": 1e-3}, Simulator(), halve=fake_halve,
                    finest_step_s=1.25e-4)
     assert plain.outcomes[("jam", "x")]["converged"] is False
     assert plain.outcomes[("jam", "x")]["solver_error"] is None
     sim = Simulator()
-    found = refine(scenes(), wobbly, {"x": 1e-3}, sim, halve=fake_halve,
+    found = refine(scenes(), wobbly(4e-3), {"x": 1e-3}, sim, halve=fake_halve,
                    finest_step_s=1.25e-4, solver_twin=twin)
-    assert len(sim.batches) == 1 and len(sim.batches[0]) == 6 + 4  # twins at h and h/2
+    assert [len(b) for b in sim.batches] == [6, 2, 2]  # the twins last, at 0.125 ms
+    assert all(s.plant.time_step == 1.25e-4 and s.name.endswith("twin")
+               for s in sim.batches[-1].values())
+    assert found.rounds[-1]["solver_twins"] is True
     row = found.outcomes[("jam", "x")]
     assert row["converged"] is True and row["error"] == pytest.approx(3e-3)
     assert row["solver_error"] == pytest.approx(4e-3) and row["limited_by"] == "solver"
+    small = refine(scenes(), wobbly(1e-3), {"x": 1e-3}, Simulator(), halve=fake_halve,
+                   finest_step_s=1.25e-4, solver_twin=twin)
+    assert small.outcomes[("jam", "x")]["converged"] is False
+    assert small.outcomes[("jam", "x")]["solver_error"] == pytest.approx(1e-3)

@@ -21,12 +21,12 @@ runs whose deciding outcomes have not converged within their tolerances
 (``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
 a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
 (``sweep.refine``). Every error is a run's own difference between steps plus the solver's: a
-twin of each run at dt and dt/2 with SAP's tolerance loosened twice
+last round runs each run at its finest step with SAP's tolerance loosened twice
 (``systems.sap_ballast``); a claim is decided only where its margin exceeds it, else the report
 says "undecided at the finest step tried". Each round of runs goes as one sweep
 (``sweep.runner.run_scenes``: in parallel on one cluster for the whole job, a progress bar over
-the runs on a terminal): the first round is the six runs, their dt/2 and dt/4 repetitions,
-their solver twins and the six with the paper's drive. Options and scenes: --scene_text is laid over every run's scene (e.g.
+the runs on a terminal): the first round is the six runs, their dt/2 and dt/4 repetitions and
+the six with the paper's drive. Options and scenes: --scene_text is laid over every run's scene (e.g.
 "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
 added to one run's scene (so its saved scene says so).
 
@@ -103,7 +103,7 @@ def main(argv=None):
             name + PAPER_DRIVE: dataclasses.replace(s, drive=PrescribedRotation(),
                                                     visualization=NoVisualization())
             for name, s in scenes.items()}
-        count = len(scenes) * (1 if args.no_verify else 5) + len(locked)
+        count = len(scenes) * (1 if args.no_verify else 3) + len(locked)
         with dask_client(args.scheduler, min(args.workers or cores(), count)) as client:
             def simulate(batch):
                 return run_scenes(batch, client=client, out_dir=args.runs_dir)

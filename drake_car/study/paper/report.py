@@ -248,9 +248,9 @@ def _terms(s):
             "first-order scheme's do; the error is then the last difference. A maximum over "
             "runs is taken over each run's own converged value, its error the largest of "
             "theirs: a run is only ever compared with itself. The error adds the solver's: "
-            "each run's twin at h and h/2 with SAP's tolerance loosened twice moves it by that "
-            "much (\"solver\" where that is the larger part; step differences within it need "
-            "not shrink). A verdict is decided only where its margin exceeds that error; \"n × "
+            "each run's twin at its finest step with SAP's tolerance loosened twice moves it "
+            "by that much (\"solver\" where that is the larger part; step differences within "
+            "it need not shrink). A verdict is decided only where its margin exceeds that error; \"n × "
             "the error\" says by how much.")
     else:
         lines.append("- **numerical error**: not estimated (one step only, --no_verify).")
