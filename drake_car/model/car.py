@@ -186,11 +186,10 @@ def forward_speed_index(car: CarModel):
     floating joint's translational velocity, in the world frame): the car's speed when it
     drives straight along x."""
     plant, chassis = car.plant, car.body("chassis")
-    for index in plant.GetJointIndices(car.instance):
-        joint = plant.get_joint(index)
-        if joint.child_body().index() == chassis.index() and joint.num_velocities() == 6:
-            return plant.num_positions() + joint.velocity_start() + 3
-    raise ValueError("forward_speed_index: the chassis has no floating joint")
+    if chassis.index() not in plant.GetFloatingBaseBodies():
+        raise ValueError("forward_speed_index: the chassis is not a floating body")
+    # A floating body's velocities: [ω_WB; v_WB], both in the world frame.
+    return plant.num_positions() + chassis.floating_velocities_start_in_v() + 3
 
 
 def rolling_momentum_scale(car: CarModel):
