@@ -1,4 +1,4 @@
-"""The strut side-load friction rig (sim/strut_rig.py) and its loop evaluation (study/rig)."""
+"""The strut side-load friction rig (sim/rigs/strut.py) and its loop evaluation (study/rig)."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,7 @@ from numpy.testing import assert_allclose
 from drake_car.law.checks import ParameterError
 from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.model.parameters import CarParameters
-from drake_car.sim.strut_rig import (
+from drake_car.sim.rigs.strut import (
     StrutRigOptions, corner_side_force_N, eq4_normal_force_N, simulate_strut_rig)
 from drake_car.study.rig.analysis import loop_statistics
 from drake_car.study.rig.loops import SYNTHETIC_LAW, synthetic_fit

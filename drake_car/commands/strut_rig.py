@@ -1,4 +1,4 @@
-"""The strut side-load friction rig (drake_car/sim/strut_rig.py): the car's own front strut
+"""The strut side-load friction rig (drake_car/sim/rigs/strut.py): the car's own front strut
 clamped at its top mount, the knuckle loaded with a constant side force, the rod stroked
 sinusoidally through the rig's load cell. Writes into DIR:
 
@@ -29,7 +29,7 @@ from drake_car.model.parameters import CarParameters
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
-from drake_car.sim.strut_rig import StrutRigOptions
+from drake_car.sim.rigs.strut import StrutRigOptions
 from drake_car.study.rig.analysis import LoopError
 from drake_car.study.rig.figures import plot_loops, plot_side_load
 from drake_car.study.rig.fit import fit_measured_loop

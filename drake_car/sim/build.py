@@ -6,6 +6,7 @@ were checked once, where it was loaded (``scene.load.check_scene``, ``scene.limi
 import dataclasses
 import logging
 
+import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
 from pydrake.systems.framework import DiagramBuilder, InputPortIndex
@@ -29,10 +30,11 @@ from drake_car.scene.scene import (
     HandsOff, LinearTyre, MagicFormula, PrescribedRotation, Scene)
 from drake_car.sim.actuation import ActuationWiring
 from drake_car.sim.drive_wiring import add_drive, driveshafts
+from drake_car.sim.monitor import Monitor, Road
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
-from drake_car.systems.tyre import TyreSystem
+from drake_car.systems.tyre import WHEELS, TyreSystem
 
 
 log = logging.getLogger(__name__)
@@ -41,6 +43,12 @@ _NOTED = set()  # tyre files whose load note was logged (once per file and car p
 
 @dataclasses.dataclass
 class CarDiagram:
+    """The car's Diagram with its handles; what the runner needs of it (``sim.simulation.
+    Simulation``): its loggers, the monitor's checks (every one: the state, the road, the
+    energy; the frozen-step count), the initial state (``initial_positions``, which the
+    scene's runner sets to the static equilibrium, ``sim.simulate``) and the history's
+    columns (the loggers' and the manoeuvre's phase)."""
+
     scene: Scene
     diagram: object
     plant: object
@@ -53,6 +61,43 @@ class CarDiagram:
     log_columns: dict = dataclasses.field(default_factory=dict)  # group -> column names
     velocity_logger: object = None  # the car's state every step (frozen-step count)
     case_port: object = None  # the Diagram's input selecting the lane change's case, or None
+    initial_positions: list | None = None  # the car's positions at the start (None: design)
+
+    @property
+    def name(self):
+        return self.scene.name
+
+    @property
+    def monitor_period_s(self):
+        return self.scene.simulator.monitor_period_s
+
+    @property
+    def time_step_s(self):
+        return self.scene.time_step_s
+
+    def monitor(self):
+        scene, car = self.scene, self.car
+        return Monitor(self.plant, self.diagram, state_logger=self.velocity_logger,
+                       instance=car.instance, road=Road(
+                           self.tyre, scene.car.tyre.radial_stiffness_Npm,
+                           scene.road.flat_up_to_m(), car.body("chassis"),
+                           scene.simulator.airborne_limit_s,
+                           tuple(car.wheel_bodies()[w] for w in WHEELS)))
+
+    def set_initial_state(self, root_context):
+        if self.initial_positions is not None:
+            self.plant.SetPositions(self.plant.GetMyMutableContextFromRoot(root_context),
+                                    self.car.instance, np.asarray(self.initial_positions))
+
+    def history(self, logged):
+        """The loggers' columns (the record period's times when nothing is logged), then the
+        manoeuvre's phase at each time."""
+        history = dict(logged)
+        if "t" not in history:
+            period = self.scene.logging.record_period_s
+            history["t"] = np.arange(int(round(self.scene.end_time_s / period)) + 1) * period
+        history["phase"] = [self.scene.manoeuvre.phase(t) for t in history["t"]]
+        return history
 
     def plant_context(self, root_context):
         return self.plant.GetMyContextFromRoot(root_context)

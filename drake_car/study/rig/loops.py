@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 
 from drake_car.law.friction.frd import StrutFrictionParameters
-from drake_car.sim.strut_rig import StrutRigOptions, eq4_normal_force_N, simulate_strut_rig
+from drake_car.sim.rigs.strut import StrutRigOptions, eq4_normal_force_N, simulate_strut_rig
 from drake_car.study.rig.analysis import loop_statistics
 from drake_car.study.rig.fit import fit_measured_loop
 
