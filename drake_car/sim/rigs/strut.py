@@ -15,8 +15,9 @@ Loads on the knuckle:
 
 - the side force ``side_force_N`` along +x, constant in the rig's frame, at the point of the
   strut axis ``side_force_point_below_top_m`` below the top mount (default: the strut's lower
-  mount, where a rig's lever clamps the knuckle). ``corner_side_force_N`` converts a corner's
-  wheel loads into the top-mount-equivalent side force (the car's b);
+  mount, where a rig's lever clamps the knuckle; ``at_rest.StrutAtRest.rig_options`` loads
+  it as the car's strut at rest: the car's transverse strut force at the top mount).
+  ``corner_side_force_N`` is the closed form of a corner's tyre share (the car's b);
 - the stroke actuator through the rig's compliance: a load cell and fixtures of stiffness
   ``rig_stiffness_Npm`` and damping ``rig_damping_Nspm`` between the knuckle and the actuator's
   position x_a(t) = A sin(2π f t); the load cell reads F = k (x_a - q) + c (ẋ_a - q̇), the
@@ -127,7 +128,10 @@ def corner_side_force_N(front, vertical_load_N, lateral_load_N=0.0):
     F = (Fz b + Fy h_bj) / (h_top - h_bj), Fz the vertical road reaction at the lateral offset b
     (the paper's Fig. 4), Fy the lateral tyre force at the ground (outward +), h_bj and h_top the
     ball joint's and the top mount's heights. The spring is taken on a line through the ball
-    joint (this car: spring on the strut axis), the lower arm as carrying no moment."""
+    joint, the lower arm as carrying no moment. It is the tyre's share alone: the car's own
+    strut load at rest (``at_rest.strut_at_rest``, measured in the settled car) adds the
+    spring's line (+155 N on the shipped car, whose spring runs along the strut axis, not
+    through the ball joint), the tie rod and the unsprung weights: 642.5 N against 520.7 N."""
     lever = front.top_mount_height_m - front.ball_joint_height_m
     return (vertical_load_N * front.ball_joint_offset_b_m
             + lateral_load_N * front.ball_joint_height_m) / lever
