@@ -124,7 +124,8 @@ class DoubleLaneChange(PathManoeuvre):
         worst, lane = lane_excursion_m(self.lanes(), *corners)
         reached = bool(np.max(x) + self.front_overhang_m >= self.lanes()[-1].end_m)
         return {"manoeuvre": "DoubleLaneChange", "course_completed": reached,
-                "inside": bool(reached and worst <= 0.0), "excursion_m": worst,
+                "inside": bool(reached and worst <= 0.0),
+                "excursion_m": worst if lane is not None else None,
                 "worst_lane": None if lane is None else (1, 3, 5)[lane]}
 
 

@@ -127,6 +127,7 @@ class PathDriver(LeafSystem):
         self._integral = self.DeclareDiscreteState(1)  # ∫ e_v dt (m)
         self.DeclareInitializationDiscreteUpdateEvent(self._initialize)
         self.DeclarePeriodicDiscreteUpdateEvent(period_s, 0.0, self._update)
+        self.DeclareForcedDiscreteUpdateEvent(self._update)  # a test's forced update
         self._rack_port = self.DeclareStateOutputPort("rack_position_m", self._rack)
         self._torque_port = None
         if speed is not None:

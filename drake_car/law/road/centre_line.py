@@ -117,9 +117,9 @@ def lane_line(lanes, start_m, end_m):
     """The centre line through ``lanes`` (in order along x) from x = ``start_m`` to
     ``end_m``: straight on each lane's centre line, and between two lanes a transition
     y = Δy (ξ - sin(2πξ)/(2π)), ξ = (x - x0)/L across the gap L (tangent to both centre lines
-    with zero curvature there, so a driver's curvature feed-forward has no step; its largest
-    curvature 2πΔy/L² mid-gap); before the first lane on the first's centre line, after the
-    last on the last's."""
+    with zero curvature there, so a driver's curvature feed-forward has no step; y'' peaks at
+    2πΔy/L² a quarter and three quarters across); before the first lane on the first's centre
+    line, after the last on the last's."""
     x = np.linspace(start_m, end_m, _samples(end_m - start_m))
     y, slope, curve = (np.full_like(x, lanes[0].centre_m), np.zeros_like(x),
                        np.zeros_like(x))
