@@ -136,3 +136,45 @@ def test_the_constant_radius_turn_holds_its_circle():
     a_y = m.timeline.speed_mps ** 2 / m.radius_m
     bound = MAX_UNDERSTEER_RAD_PER_G * a_y / 9.81 / k
     assert outcome["radius_error_m"] <= bound, (outcome, bound)
+
+
+def test_every_path_scene_value_changes_what_runs_or_how_it_is_judged():
+    """Each value of !PathFollower changes the driver built from it; each of the manoeuvres'
+    changes the path, the lanes or the verdict on one and the same history."""
+    from drake_car.sim.build import build_diagram
+    from drake_car.sim.driver_wiring import steering_law
+
+    base = load_scene(DRIVER_SCENES, child="double_lane_change")
+    law = steering_law(base.car, base.steering)
+    for text in ("preview_m: 12.0", "damping_ratio: 0.8"):
+        other = load_scene(base=base, scene_text=f"steering: !PathFollower {{{text}}}")
+        assert steering_law(other.car, other.steering) != law, text
+    slower = load_scene(base=base, scene_text="steering: !PathFollower {period_s: 0.02}")
+    periodic = build_diagram(slower).driver.GetUniquePeriodicDiscreteUpdateAttribute()
+    assert periodic.period_sec() == 0.02
+
+    # along the path, nose 0.05 rad left (the rear corners swing out most), stopping 1 m
+    # short of the course's end (a longer front overhang reaches it)
+    line = base.manoeuvre.centre_line()
+    x = np.linspace(0.0, base.manoeuvre.lanes()[-1].end_m - 1.0, 600)
+    history = {"x_m": x, "y_m": np.interp(x, line.x, line.y), "yaw_rad": np.full_like(x, 0.05)}
+    judged = base.manoeuvre.outcome(base, history)
+    for text in ("direction: right", "vehicle_width_m: 1.8", "front_overhang_m: 1.2",
+                 "rear_overhang_m: 1.1"):
+        other = load_scene(base=base, scene_text=f"manoeuvre: !DoubleLaneChange {{{text}}}")
+        assert other.manoeuvre.outcome(other, history) != judged, text
+    assert load_scene(base=base, scene_text="manoeuvre: !DoubleLaneChange {vehicle_width_m: "
+                      "1.8}").manoeuvre.centre_line().y.max() != base.manoeuvre.centre_line(
+                      ).y.max()
+
+    circle = load_scene(DRIVER_SCENES, child="constant_radius")
+    m = circle.manoeuvre
+    angle = np.linspace(-0.5, 3.0, 400)
+    r = m.radius_m + 0.3
+    ring = {"x_m": m.entry_m() + r * np.sin(angle), "y_m": m.radius_m - r * np.cos(angle)}
+    verdict = m.outcome(circle, ring)
+    assert verdict["within"] and verdict["radius_error_m"] == pytest.approx(0.3, abs=1e-3)
+    for text, key in (("tolerance_m: 0.2", "within"), ("radius_m: 41.0", "radius_error_m"),
+                      ("direction: right", "quarter_turn_reached")):
+        other = load_scene(base=circle, scene_text=f"manoeuvre: !ConstantRadius {{{text}}}")
+        assert other.manoeuvre.outcome(other, ring)[key] != verdict[key], text

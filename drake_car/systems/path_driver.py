@@ -7,8 +7,9 @@ Steering: single-point preview on the path's tangent (the linearised form of "th
 offset of a point ``preview_m`` ahead"; Chrono's ``ChPathSteeringController`` takes the
 offset of such a point from the path itself). With the car's station s on the path, its
 lateral offset e (left +) and heading error e_ψ = χ - ψ_path(s), χ = ψ + β the direction the
-reference point travels (the body's yaw ψ plus the sideslip β there; Chrono's XT controller
-also takes the velocity's direction once the car moves):
+reference point travels (the body's yaw ψ plus the sideslip β there, blended in between
+``COURSE_SPEEDS_MPS``: at a crawl the sideslip is not defined; Chrono's XT controller also
+switches to the velocity's direction once the car moves):
 
     e_L = e + L sin e_ψ                        the offset of the point L ahead, from the tangent
     δ   = l κ(s) - k e_L                       road-wheel angle: curvature feed-forward plus
@@ -48,6 +49,10 @@ from pydrake.systems.framework import LeafSystem
 
 # The columns of the motion input the driver reads (any others are ignored).
 MOTION_NEEDS = ("x_m", "y_m", "yaw_rad", "speed_mps", "sideslip_rad")
+# Below the first speed the heading error is the body's, above the second the direction of
+# travel's, linear in between (m/s) [EST: the sideslip at the reference point settles once the
+# tyres roll; Chrono's XT controller switches at 1 m/s].
+COURSE_SPEEDS_MPS = (1.0, 3.0)
 # What the ``tracking`` output holds.
 TRACKING_COLUMNS = ("station_m", "offset_m", "heading_error_rad")
 
@@ -161,7 +166,9 @@ class PathDriver(LeafSystem):
         # Look within the distance the car can have moved since the last update, and more.
         window = 10.0 + 2.0 * abs(speed) * self._period
         station, offset, heading, curvature = self._line.locate(x, y, near, window)
-        heading_error = math.remainder(yaw + sideslip - heading, 2.0 * math.pi)
+        low, high = COURSE_SPEEDS_MPS
+        course = yaw + sideslip * min(1.0, max(0.0, (abs(speed) - low) / (high - low)))
+        heading_error = math.remainder(course - heading, 2.0 * math.pi)
         preview_offset = offset + law.preview_m * math.sin(heading_error)
         steer = law.wheelbase_m * curvature - law.gain_rad_per_m * preview_offset
         rack = float(np.clip(law.rack_per_steer_m_per_rad * steer, -law.rack_limit_m,
