@@ -20,9 +20,12 @@ section    length    width                        lateral place
 w is the vehicle's width; the course is 61 m long; the first move is to the left. Sources: the
 standard's scope and §4 as published (the 61 m length, widths as functions of the vehicle
 width, cone-marked lanes with the track limits tangent to the cones' bases) and its Table 1 as
-reproduced in Project Chrono's ISO 3888 double-lane-change demo (HMMWV), which gives lane 5 a
-fixed 3 m. Not checked against the standard's own Table 1 and Figure 1 (not at hand): the exit
-lane's 1.3 w + 0.25 m with its 3 m floor, and which edge lanes 1 and 5 share.
+reproduced in two public implementations, which agree on sections 1-4 and differ on the exit
+lane: Project Chrono's ISO 3888 double-lane-change demo (HMMWV) gives it a fixed 3 m with its
+right edge on lane 1's (used here: the same 3 m for any car narrower than 2.1 m), the
+``iso_maneuvers`` scripts (github AhmadAmine998) min(1.3 w + 0.25, 3) m centred on lane 1's
+centre line (2.45 m for this car's 1.69 m). Not checked against the standard's own Table 1 and
+Figure 1 (not at hand): lane 5's width rule and where it lies.
 """
 
 import dataclasses
