@@ -32,6 +32,8 @@ _EXPORTS = {
     "StrutFrictionParameters": "drake_car.law.friction.frd",
     "FrictionPairLaw": "drake_car.law.friction.frd",
     "SlipOptions": "drake_car.law.tyre.slip",
+    "MagicFormulaTyre": "drake_car.law.tyre.magic_formula",
+    "RadialTyre": "drake_car.law.tyre.contact",
     "SteeringLaw": "drake_car.systems.path_driver",
     "SpeedLaw": "drake_car.systems.path_driver",
     "CentreLine": "drake_car.law.road.centre_line",
