@@ -89,7 +89,7 @@ def speed_law(params, target_mps, *, time_constant_s=0.5, max_torque_Nm=None):
     mass = params.mass.total_mass_kg + 4 * params.mass.wheel_spin_inertia_kgm2 / radius ** 2
     gain, integral = speed_gains(mass, radius, time_constant_s)
     limit = OpenDifferential().max_wheel_torque_Nm if max_torque_Nm is None else max_torque_Nm
-    return SpeedLaw(target_mps=target_mps, gain_Nm_per_mps=gain, integral_time_s=integral,
+    return SpeedLaw(target_mps=target_mps, gain_Nm_per_mps=float(gain), integral_time_s=integral,
                     max_torque_Nm=limit)
 
 
