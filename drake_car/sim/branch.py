@@ -81,7 +81,7 @@ def simulate_family(scenes: list, *, progress=False):
         _write_model_values(runner.built, runner.root)
         runner.simulator.Initialize(InitializeParams(suppress_initialization_events=True))
         # Starting at the branch time, the loggers sample that time again: the channels' logs
-        # keep it once (sim.simulate.logged_history), the every-step log is not a new step.
+        # keep it once (sim.simulation.logged_history), the every-step log is not a new step.
         runner.built.velocity_logger.FindMutableLog(runner.root).Clear()
         runner.monitor.resume(prefix_stats, prefix_last_v)
         runner.wall_s, runner.cpu_s = prefix_wall, prefix_cpu

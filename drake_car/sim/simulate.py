@@ -19,6 +19,7 @@ from drake_car.scene.load import (
     WALL_PER_STEP_S, dump_scene, dump_scene_file, scene_hash)
 from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
 from drake_car.sim.build import build_diagram
+from drake_car.sim.driver_wiring import manoeuvre_outcome
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
 from drake_car.sim.simulation import Runner
@@ -144,11 +145,15 @@ class SceneRunner(Runner):
     def finish(self) -> Run:
         result = self.result()
         html = self.recorder.finish() if self.recorder is not None else None
+        final = final_state(self.built, self.root)
+        outcome = manoeuvre_outcome(self.scene, result.history, log)  # a path manoeuvre's
+        if outcome is not None:
+            final["manoeuvre_outcome"] = outcome
         return Run(scene=self.scene, history=result.history, wall_s=result.wall_s,
                    frozen_sap_steps=result.frozen_sap_steps,
                    first_frozen_sap_step_s=result.first_frozen_sap_step_s, steps=result.steps,
-                   final=final_state(self.built, self.root), diagram_dot=result.diagram_dot,
-                   replay_html=html, cpu_s=result.cpu_s)
+                   final=final, diagram_dot=result.diagram_dot, replay_html=html,
+                   cpu_s=result.cpu_s)
 
 
 def static_equilibrium(scene: Scene) -> Equilibrium:

@@ -4,9 +4,9 @@ deferred Ctrl-C/SIGTERM, wall and CPU time, and history from its loggers.
 
 What a runner needs of a built Diagram is ``Simulation`` (a protocol): the Diagram and its
 plant, its loggers and their column names, the monitor's checks it can have, its initial state
-and the columns its history derives from what was logged. The car's ``sim.build.CarDiagram``
-is one implementation, each rig (``sim.rigs.friction.Rig``, ``sim.rigs.strut.StrutRig``)
-another.
+and the columns its history derives from what was logged. The car's
+``sim.car_diagram.CarDiagram`` is one implementation, each rig (``sim.rigs.friction.Rig``,
+``sim.rigs.strut.StrutRig``) another.
 
 The run advances in chunks of ``monitor_period_s``; after each chunk the monitor checks the
 state (and the car's runner adds its replay frame). The loggers (Drake's VectorLogSink, C++)
