@@ -8,14 +8,14 @@ a left-right difference is the run's own or any seed's.
   python benchmarks/mirror.py [--sets 1,2,3] [--scene_text YAML] [--end_s 10] [--seed_m 0]
 """
 
-import argparse
 import time
 
 import numpy as np
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene
-from drake_car.sim.simulate import Runner, _set_initial_state
+from drake_car.sim.simulate import SceneRunner
 from drake_car.study.paper.claims import place_values, study_columns
 
 TIMES_S = (0.5, 1.1, 4.9)
@@ -25,13 +25,17 @@ def run(name, text, end_s, seed_m=0.0):
     scene = load_scene(resource("scenes/paper_study.yaml"), child=name,
                        scene_text=f"{{{text}{', ' if text else ''}"
                                   f"simulator: {{end_time_s: {end_s}}}}}")
-    runner = Runner(scene)
-    _set_initial_state(runner.built, runner.root, scene)
-    if seed_m:
-        context = runner.built.plant.GetMyMutableContextFromRoot(runner.root)
-        rack = runner.built.car.joint("rack_slide")
-        rack.set_translation(context, rack.get_translation(context) + seed_m)
-    runner.simulator.Initialize()
+    runner = SceneRunner(scene)
+    if seed_m:  # after the initial state is set, before Drake's initialization events
+        built, initial = runner.built, runner.built.set_initial_state
+
+        def seeded(root):
+            initial(root)
+            context = built.plant.GetMyMutableContextFromRoot(root)
+            rack = built.car.joint("rack_slide")
+            rack.set_translation(context, rack.get_translation(context) + seed_m)
+        built.set_initial_state = seeded
+    runner.start()
     began = time.process_time()
     runner.advance_to(scene.end_time_s)
     result = runner.finish()
@@ -45,9 +49,10 @@ def split(h, timeline):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = cli.parser(__doc__, prog="benchmarks/mirror.py", out=False,
+                        scene_text="YAML laid over each run, its outer braces left out "
+                                   "(\"friction: {pairs: translation}\")")
     parser.add_argument("--sets", default="1,2,3")
-    parser.add_argument("--scene_text", default="", help="YAML (inner keys) laid over each run")
     parser.add_argument("--end_s", type=float, default=10.0)
     parser.add_argument("--seed_m", type=float, default=0.0)
     args = parser.parse_args()

@@ -7,9 +7,9 @@ finest step (issue 32).
   python benchmarks/solver_axis.py [--run b_3] [--steps_s 1e-3,2.5e-4] [--factors 1,1.25,2]
 """
 
-import argparse
 import time
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene
 from drake_car.sim.simulate import simulate
@@ -17,7 +17,7 @@ from drake_car.study.paper.claims import place_values, study_columns
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = cli.parser(__doc__, prog="benchmarks/solver_axis.py", out=False)
     parser.add_argument("--run", default="b_3")
     parser.add_argument("--steps_s", default="1e-3,2.5e-4")
     parser.add_argument("--factors", default="1,1.25,2")
