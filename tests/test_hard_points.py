@@ -274,3 +274,25 @@ def test_round_trip_of_today_s_parameters_is_round_off():
             if mine is None:
                 mine = params.front.caster_deg
             assert_allclose(theirs, mine, rtol=1e-12, atol=1e-12, err_msg=field.name)
+
+
+def test_the_second_car_s_file_is_its_module_s_output():
+    """urdf/cars/bmw_320i.yaml is what drake_car/model/cars/bmw_320i.py writes from its
+    sources (``python -m drake_car.model.cars.bmw_320i``), every value with its source; the
+    car it makes has [CR2]'s mass, tracks, wheelbase and rates, its sprung mass's roll and pitch
+    inertia and CoG, and the E90's kingpin geometry."""
+    from drake_car.model.cars import bmw_320i
+    text = bmw_320i.car_file_text()
+    assert data_path("cars/bmw_320i.yaml").read_text() == text
+    assert all("  # " in line for line in text.splitlines()
+               if line.startswith("  ") or line.startswith(("wheelbase_m", "driven_axle")))
+    car = load_scene(scene_text="car_file: cars/bmw_320i.yaml").car
+    assert car.driven_axle == "rear"
+    assert car.mass.total_mass_kg == bmw_320i.MASS_KG
+    assert car.front.track_m == pytest.approx(bmw_320i.FRONT_TRACK_M, abs=1e-15)
+    assert car.wheelbase_m == pytest.approx(2.5789128, abs=1e-12)
+    assert_allclose(car.mass.sprung_inertia_kgm2[:2], bmw_320i.SPRUNG_ROLL_PITCH_KGM2, rtol=1e-12)
+    assert_allclose([car.mass.cog_to_front_axle_m, car.mass.sprung_cog_height_m],
+                    [bmw_320i.SPRUNG_TO_FRONT_AXLE_M, bmw_320i.SPRUNG_COG_HEIGHT_M + 0.018],
+                    atol=1e-12)
+    assert 10.0 < car.front.kingpin_inclination_deg < 12.0

@@ -25,7 +25,7 @@ import numpy as np
 
 from drake_car.commands import cli
 from drake_car.law.checks import ParameterError
-from drake_car.model.parameters import CarParameters
+from drake_car.scene.load import load_scene
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
@@ -49,7 +49,9 @@ def read_loop(path):
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, name="strut_rig")
+    p = cli.parser(__doc__, name="strut_rig", scene_text=(
+        "YAML laid over the default scene: its car's strut is the rig's (e.g. "
+        "\"car_file: cars/bmw_320i.yaml\")"))
     p.add_argument("--quick", action="store_true", help="three side loads, no variants")
     p.add_argument("--measured", default=None, help="a measured loop to fit (CSV)")
     p.add_argument("--side_force_N", type=cli.positive("side_force_N"), default=1000.0)
@@ -58,7 +60,7 @@ def main(argv=None):
     p.add_argument("--sample_period_s", type=cli.positive("sample_period_s"), default=1e-3)
     args = p.parse_args(argv)
     cli.check_out(args)
-    car = CarParameters()
+    car = load_scene(scene_text=args.scene_text or None).car
     start, cpu = time.time(), time.process_time()
     if args.measured:
         stroke, force = read_loop(args.measured)
