@@ -296,3 +296,8 @@ def test_the_second_car_s_file_is_its_module_s_output():
                     [bmw_320i.SPRUNG_TO_FRONT_AXLE_M, bmw_320i.SPRUNG_COG_HEIGHT_M + 0.018],
                     atol=1e-12)
     assert 10.0 < car.front.kingpin_inclination_deg < 12.0
+    # Its rack end placed for the least bump steer ([EST], the module): toe within ±0.07 deg
+    # over ±75 mm of wheel travel (Chrono's round-number TIEROD_C gave ±2 deg).
+    from drake_car.model.kinematics_sweep import run_kinematics_sweep
+    toe = run_kinematics_sweep(car, travel_m=0.075, points=7).kinematics["toe_deg"]
+    assert np.max(np.abs(toe)) < 0.07

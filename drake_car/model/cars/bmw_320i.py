@@ -72,6 +72,12 @@ E90_POINTS = {
     "tie_rod_outer_m": (-0.2, 0.574803759, -0.00127),  # TIEROD_U
     "wheel_centre_m": (0.0, E90_HALF_TRACK_M, 0.0),  # SPINDLE
 }
+# [EST] The rack end (tie rod's inner point) in this car file's frame: Chrono's TIEROD_C
+# (-0.2, 0.2, -0.05) is a round estimate (SAE's points are inch conversions: 0.27051 m =
+# 10.65 in) with which the corner steers ±2 deg over ±75 mm of wheel travel (±1.9 deg
+# unscaled), far beyond a production front; placed here, in its plane x = -0.2 m, for the least
+# bump steer over ±75 mm (least squares on a 1 mm grid: toe within ±0.07 deg).
+TIE_ROD_INNER_M = [-0.2, 0.203, 0.280]
 E90_LOWER_ARM_KG = 2.72  # m_LCAMass
 E90_TIE_ROD_KG = 1.13  # m_tierodMass
 
@@ -104,6 +110,8 @@ SOURCES = {
     "driven_axle": "the 320i is rear-driven",
     "front.*_m points": "[E90] scaled laterally by T_f / 1.500124 [CR2], on the ground at ride "
                         "height",
+    "front.tie_rod_inner_m": "[EST] placed for the least bump steer (TIE_ROD_INNER_M: [E90]'s "
+                             "is Chrono's round estimate, ±2 deg over ±75 mm)",
     "front.guide_below_top_mount_m": "[EST] as the shipped car's (a 0.47-0.48 m strut)",
     "front.guide_length_l_m": "[EST] as the shipped car's",
     "front.rod_radius_r_m": "[EST] a 22 mm rod",
@@ -125,8 +133,10 @@ SOURCES = {
 
 def _front_points():
     scale = (FRONT_TRACK_M / 2) / E90_HALF_TRACK_M
-    return {name: [x, y * scale, z + WHEEL_CENTRE_HEIGHT_M]
-            for name, (x, y, z) in E90_POINTS.items()}
+    points = {name: [x, y * scale, z + WHEEL_CENTRE_HEIGHT_M]
+              for name, (x, y, z) in E90_POINTS.items()}
+    points["tie_rod_inner_m"] = list(TIE_ROD_INNER_M)
+    return points
 
 
 def car() -> HardPointCar:
@@ -183,6 +193,8 @@ def car() -> HardPointCar:
 def _source(key):
     group, _, name = key.partition(".")
     if key in SOURCES:
+        return SOURCES[key]
+    if key == "front.tie_rod_inner_m":
         return SOURCES[key]
     if group == "front" and name in E90_POINTS:
         return SOURCES["front.*_m points"]
