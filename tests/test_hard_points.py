@@ -301,3 +301,24 @@ def test_the_second_car_s_file_is_its_module_s_output():
     from drake_car.model.kinematics_sweep import run_kinematics_sweep
     toe = run_kinematics_sweep(car, travel_m=0.075, points=7).kinematics["toe_deg"]
     assert np.max(np.abs(toe)) < 0.07
+
+
+def test_a_rack_behind_the_axle_steers_the_way_the_manoeuvre_says():
+    """The BMW's steering arms lie behind its steering axis ([E90]): rack travel to the left
+    steers its wheels right (the linkage's ratio by the kinematics has the geometry's sign);
+    a manoeuvre's rack command (a front-steer linkage's: positive steers left) reaches its rack
+    mirrored, so a left ramp steer turns it left as it turns the Escort."""
+    from drake_car.model.geometry import steering_sign
+    from drake_car.sim.driver_wiring import rack_per_steer_m_per_rad
+    bmw = load_scene(scene_text="car_file: cars/bmw_320i.yaml").car
+    assert steering_sign(bmw) == -1.0 and rack_per_steer_m_per_rad(bmw) < 0
+    assert steering_sign(CarParameters()) == 1.0 and rack_per_steer_m_per_rad(CarParameters()) > 0
+    text = ("{car_file: cars/bmw_320i.yaml, manoeuvre: !StepSteer {rack_m: 0.004, timeline: "
+            "{settle_s: 0.2, speed_up_s: 1.0, straight_s: 0.2, steer_s: 1.0, calm_s: 0.0, "
+            "speed_kph: 20.0}}, logging: {record_period_s: 0.02}}")
+    h = simulate(load_scene(scene_text=text)).history
+    assert h["rack_m"][-1] == pytest.approx(-0.004, abs=2e-4), "the rack travels right"
+    # Left steer, and a left yaw rate near the kinematic u δ / L (0.041 rad/s at 20 km/h).
+    steer = h["steer_fl_rad"][-1]
+    assert steer > 0.01
+    assert h["yaw_rate_radps"][-1] > 0.5 * h["speed_mps"][-1] * steer / bmw.wheelbase_m

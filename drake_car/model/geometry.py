@@ -245,6 +245,18 @@ def design_axle_loads_N(params: CarParameters):
             "rear": weight * behind_front / params.wheelbase_m}
 
 
+def steering_sign(params: CarParameters):
+    """+1 where the tie rod's outer end lies ahead of the steering axis (a rack ahead of the
+    axle: rack travel to the left steers the wheels left), -1 where it lies behind (a rack
+    behind the axle, as the BMW E90's: rack travel to the left steers them right). The rack
+    pushes the outer end sideways; its moment about the (near vertical) steering axis has the
+    sign of the end's lever ahead of the axis."""
+    p = front_corner_points(params, 1.0)
+    axis = p.top_mount - p.ball_joint
+    at_end = p.ball_joint + (p.tie_rod_outer[2] - p.ball_joint[2]) / axis[2] * axis
+    return 1.0 if p.tie_rod_outer[0] > at_end[0] else -1.0
+
+
 def rpy_z_to(direction):
     """Roll-pitch-yaw (fixed-axis x-y-z) of a frame whose z axis points along ``direction``."""
     d = _unit(direction)

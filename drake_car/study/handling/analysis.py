@@ -9,7 +9,8 @@ import time
 
 import numpy as np
 
-from drake_car.model.geometry import design_axle_loads_N, whole_car_cog_to_front_m
+from drake_car.model.geometry import (
+    design_axle_loads_N, steering_sign, whole_car_cog_to_front_m)
 from drake_car.model.kinematics_sweep import run_kinematics_sweep
 from drake_car.scene.load import SceneError
 from drake_car.scene.manoeuvres import RampSteer, StepSteer
@@ -128,7 +129,8 @@ def analyse(runs, fit_range):
     budget = understeer_budget(h, car, tyre, kinematic_steer_rad=rack_steer, combined=combined,
                                linear=linear, ay_range=fit_range)
     command = ramp.scene.manoeuvre.rack()
-    rack_command = np.array([command.value(t)[0, 0] for t in h["t"]])
+    # The rack's own travel (a rack behind the axle travels against the command: sim.build).
+    rack_command = steering_sign(car) * np.array([command.value(t)[0, 0] for t in h["t"]])
     servo = handling.steady_state(
         h, steer_rad=handling.kinematic_steer_rad(rack_command, steering),
         wheelbase_m=L, cog_offset_m=a, mass_kg=mass,
