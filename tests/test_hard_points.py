@@ -39,7 +39,9 @@ def _write_car(path, car: HardPointCar):
 
 
 def _numbers(sdformat):
-    return np.array([float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", sdformat)])
+    """The numbers of a model file's model (its header comment names the car)."""
+    model = sdformat[sdformat.index("<model"):]
+    return np.array([float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", model)])
 
 
 def test_the_generator_places_every_hard_point_where_the_file_puts_it():
