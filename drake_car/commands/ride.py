@@ -31,6 +31,9 @@ from drake_car.sweep.store import (
     check_sweep_folder, damage, key_parts, read_status, run_key)
 
 
+OPTIONS = {"classes": "--classes", "speeds_kph": "--speeds"}  # RideStudy's fields
+
+
 @dataclasses.dataclass
 class FinishedRun:
     scene: object
@@ -67,6 +70,10 @@ def main(argv=None):
     if any(s not in STRUTS for s in struts):
         raise ParameterError("--strut", args.strut, f"must be one of {', '.join(STRUTS)}, both")
     studies = [RideStudy(classes=classes, speeds_kph=speeds, strut=s) for s in struts]
+    try:  # the options, before any work (the road's length is derived from the speeds)
+        studies[0].check()
+    except ParameterError as e:
+        raise ParameterError(OPTIONS.get(e.key, e.key), e.value, e.requirement) from None
     scenes = {}
     for study in studies:
         scenes.update(ride_scenes(study))

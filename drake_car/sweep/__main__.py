@@ -52,7 +52,9 @@ GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, prog="python -m drake_car.sweep")
+    p = cli.parser(__doc__, prog="python -m drake_car.sweep", out_help=(
+        "the sweep's folder: each run is added to it as it finishes and reused by the same "
+        "command again; never replaced (delete it to start afresh)"))
     p.add_argument("--scenes", required=True, help="scenes file (each entry a run) or FILE:ENTRY")
     p.add_argument("--scene_text", default="", help="YAML laid over every scene")
     p.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
