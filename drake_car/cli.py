@@ -6,11 +6,13 @@ loggers up when it parses, writing through tqdm so that messages do not break a 
 
 Bad input is any ``ValueError`` the project raises for a value it refuses (a scene key, a
 parameter, a tyre or model file, an output folder, a step above a stability limit) and a
-simulation that cannot go on (``SimulationFailure``: divergence, a rod out of its guide).
+simulation that cannot go on (``SimulationFailure``: divergence, a rod out of its guide); an
+``OSError`` (a full disk, a permission, a folder removed) takes the same path.
 """
 
 import argparse
 import logging
+import os
 import sys
 from pathlib import Path
 
@@ -134,15 +136,32 @@ def _checked(name, valid, requirement):
 
 
 def run_main(main, argv=None):
-    """Runs ``main(argv)``; bad input exits 2 with one line on stderr, Ctrl-C exits 130."""
+    """Runs ``main(argv)``; bad input and an OS error (a full disk, a permission, a folder
+    removed) exit 2 with one line on stderr, Ctrl-C exits 130."""
     try:
         main(argv)
     except BAD_INPUT as e:
         print(f"error: {one_line(e)}", file=sys.stderr)
         raise SystemExit(2) from None
+    except OSError as e:
+        print(f"error: {one_line(os_error_line(e))}", file=sys.stderr)
+        raise SystemExit(2) from None
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         raise SystemExit(130) from None
+
+
+def os_error_line(error):
+    """What an OSError is about, in a line: its paths and its reason; the working folder
+    removed under the command named as such (its error names no path)."""
+    paths = [os.fsdecode(f) for f in (error.filename, error.filename2) if f is not None]
+    if not paths and isinstance(error, FileNotFoundError):
+        try:
+            os.getcwd()
+        except FileNotFoundError:
+            return ("the current folder no longer exists (removed while the command ran?); "
+                    "change to one that does")
+    return ": ".join([*paths, error.strerror or str(error)])
 
 
 def check_out(args):

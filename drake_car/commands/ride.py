@@ -21,7 +21,7 @@ import time
 
 from drake_car import cli
 from drake_car.law.checks import ParameterError
-from drake_car.results.files import read_csv
+from drake_car.results.files import files_into, read_csv
 from drake_car.study.ride.analysis import collect
 from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
 from drake_car.study.ride.report import write_outputs
@@ -88,7 +88,8 @@ def main(argv=None):
     if not rows:
         raise ParameterError("--out", str(args.out), "holds no finished run with its "
                              "half-step twin (run without --no_run first)")
-    write_outputs(args.out, rows, runs, studies[0], time.perf_counter() - began)
+    with files_into(args.out) as out:  # each file whole
+        write_outputs(out, rows, runs, studies[0], time.perf_counter() - began)
     print(f"wrote {args.out / 'report.md'} ({len(rows)} runs with their twins)")
 
 
