@@ -16,7 +16,7 @@ from drake_car.model.parameters import CarParameters
 from drake_car.scene.load import dump_scene
 from drake_car.scene.manoeuvres import Timeline
 from drake_car.scene.scene import VerticalOnly
-from drake_car.sim.build import BuildError
+from drake_car.scene.load import SceneError
 from drake_car.sim.monitor import DivergenceError
 from drake_car.sim.simulate import Runner, simulate
 from drake_car.study.paper.calibration import lane_change_metrics
@@ -220,10 +220,12 @@ def test_energy_not_given_is_stopped():
 
 
 def test_reference_scheme_refuses_a_step_above_its_limit():
-    """The explicit friction scheme at 1 ms on the car: refused before it runs, the limit named
-    (2 m Δv / (1.5 μs N): ~6.5 µs with μs = 0.4)."""
-    with pytest.raises(BuildError, match=r"stability limit 6.\d+e-06 s"):
-        simulate(paper_scene("a_3", "friction: {scheme: reference}"))
+    """The explicit friction scheme at 1 ms on the car: refused where the scene is loaded,
+    before anything is built, the limit named (2 m Δv / (1.5 μs N): ~6.5 µs with μs = 0.4)."""
+    with pytest.raises(SceneError, match=r"plant.time_step = 0.001 is above the explicit "
+                                         r"\(reference\) friction scheme's stability limit "
+                                         r"6.\d+e-06 s"):
+        paper_scene("a_3", "friction: {scheme: reference}")
 
 
 def test_same_scene_twice_gives_identical_histories():

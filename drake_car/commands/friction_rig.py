@@ -10,7 +10,7 @@ The rig runs under the divergence monitor, and the explicit (reference) scheme r
 above its stability limit before it runs.
 
 Example (break-away under a slow ramp):
-  python experiments/friction_rig.py --out results/rig --force_rate_Nps 1000 --duration_s 1
+  drake-car-friction-rig --out results/rig --force_rate_Nps 1000 --duration_s 1
 """
 
 import dataclasses
@@ -21,8 +21,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from drake_car import cli  # noqa: E402
-from drake_car.scene.load import SceneError, load_scene  # noqa: E402
+from drake_car.commands import cli  # noqa: E402
+from drake_car.scene.load import load_section  # noqa: E402
+from drake_car.scene.scene import Friction  # noqa: E402
 from drake_car.results.files import write_csv, write_json  # noqa: E402
 from drake_car.results.folder import output_folder  # noqa: E402
 from drake_car.results.provenance import provenance  # noqa: E402
@@ -30,7 +31,7 @@ from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, name="friction_rig")
     P, N, Z = cli.positive, cli.nonnegative, cli.number
     p.add_argument("--mass_kg", type=P("mass_kg"), default=30.0)
     p.add_argument("--normal_force_N", type=N("normal_force_N"), default=3000.0)
@@ -52,9 +53,7 @@ def main(argv=None):
                         "\"{scheme: reference, law: {mu_s: 0.4, mu_d: 0.3}}\"")
     args = p.parse_args(argv)
     cli.check_out(args)
-    friction = load_scene(scene_text=f"friction: {args.friction}").friction
-    if friction is None:
-        raise SceneError(f"--friction {args.friction!r}: the rig needs a friction law")
+    friction = load_section(Friction, "friction", args.friction, f"--friction {args.friction!r}")
     if args.time_step_s > args.duration_s:
         p.error("--time_step_s must not exceed --duration_s")
     options = RigOptions(

@@ -1,6 +1,7 @@
 """``build_diagram(scene)``: the car's Diagram, a straight line of stages, each adding only what
 the scene calls for (build order as Drake's hardware_sim: plant and parser, actuators, Finalize,
-systems and wiring, loggers, visualiser, Build)."""
+systems and wiring, loggers, visualiser, Build). The scene is trusted: its values and limits
+were checked once, where it was loaded (``scene.load.check_scene``, ``scene.limits``)."""
 
 import dataclasses
 import logging
@@ -11,18 +12,17 @@ from pydrake.systems.framework import DiagramBuilder, InputPortIndex
 from pydrake.systems.primitives import (
     LogVectorOutput, MatrixGain, PortSwitch, TrajectorySource)
 
-from drake_car.law.tyre.magic_formula import MagicFormulaTyre, relaxation_lengths_m
+from drake_car.law.tyre.magic_formula import relaxation_lengths_m
 from drake_car.law.tyre.contact import RadialTyre
 from drake_car.law.tyre.plausibility import wheel_load_note
-from drake_car.model.anti_roll_bar import anti_roll_bar_gain, time_step_limit_s
+from drake_car.model.anti_roll_bar import anti_roll_bar_gain
 from drake_car.model.car import add_car
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import add_drive_actuators
 from drake_car.model.geometry import design_axle_loads_N
-from drake_car.model.loading import tir_path
+from drake_car.model.loading import read_tyre
 from drake_car.model.steering import add_steering_column, column_strut, release_schedule
-from drake_car.model.struts import (
-    declare_strut_friction, make_strut_friction, reference_time_step_limit_s)
+from drake_car.model.struts import declare_strut_friction, make_strut_friction
 from drake_car.scene.load import channels_of, hands_off_release_s
 from drake_car.scene.manoeuvres import LaneChange
 from drake_car.scene.scene import (
@@ -37,10 +37,6 @@ from drake_car.systems.tyre import TyreSystem
 
 log = logging.getLogger(__name__)
 _NOTED = set()  # tyre files whose load note was logged (once per file and car per process)
-
-
-class BuildError(ValueError):
-    """The scene cannot be built (a step above a stability limit, ...); names the key."""
 
 
 @dataclasses.dataclass
@@ -91,7 +87,6 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         add_drive_actuators(plant, car, pd=isinstance(scene.drive, PrescribedRotation))
         wiring.add("drive", 2, pd=isinstance(scene.drive, PrescribedRotation))
     declarations = None
-    check_stability(scene)
     if scene.friction is not None:
         declarations = declare_strut_friction(plant, car, rotation=scene.friction.rotation,
                                               scheme=scene.friction.scheme)
@@ -200,42 +195,15 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
                       case_port=case_port)
 
 
-def check_stability(scene):
-    """Refuses (BuildError) a step above the stability limit of a part applied explicitly: the
-    anti-roll bars and the reference friction scheme (here), the tyres (when they are built)."""
-    bar_limit = time_step_limit_s(scene.car)
-    if scene.time_step_s > bar_limit:
-        raise BuildError(f"plant.time_step = {scene.time_step_s:g} s is above the anti-roll "
-                         f"bars' explicit stability limit {bar_limit:.2g} s")
-    if scene.friction is None or scene.friction.scheme != "reference":
-        return
-    limit = reference_time_step_limit_s(scene.car, scene.friction.law)
-    if scene.time_step_s > limit:
-        raise BuildError(
-            f"plant.time_step = {scene.time_step_s:g} s is above the explicit (reference) "
-            f"friction scheme's stability limit {limit:.2g} s on this car (2 m Δv / (1.5 μs N) "
-            "with the strut's moving mass and its normal force at rest); use a smaller step or "
-            "friction.scheme: fast")
-
-
-def _check_tyre_load_range(tyre, plant, car_parameters):
-    """The car's wheel load at rest (its weight over four wheels) must lie inside the tyre
-    file's FZMIN..FZMAX: a tyre fitted for another vehicle (a truck's) is refused, naming both.
-    Inside them but far from FNOMIN (``plausibility.wheel_load_note``): a warning, once."""
-    weight_N = plant.CalcTotalMass(plant.CreateDefaultContext()) * 9.81
-    wheel_N = weight_N / 4.0
-    if not tyre.FZMIN <= wheel_N <= tyre.FZMAX:
-        raise BuildError(
-            f"tyres.tir_file: {tyre.name} is valid for wheel loads {tyre.FZMIN:g}.."
-            f"{tyre.FZMAX:g} N (FNOMIN {tyre.FNOMIN:g} N); this car rests on about "
-            f"{wheel_N:.0f} N per wheel ({weight_N:.0f} N over four) and runs at about "
-            f"0..{2 * wheel_N:.0f} N in a lane change: a tyre for a heavier vehicle")
+def _note_tyre_load(tyre, car_parameters):
+    """A tyre file whose FNOMIN is far from the car's wheel loads (``plausibility.
+    wheel_load_note``; the load range itself is checked with the scene): a warning, once per
+    file and car in a process."""
     note = wheel_load_note(tyre, {axle: load / 2 for axle, load
                                   in design_axle_loads_N(car_parameters).items()})
     if note and (note not in _NOTED):
         _NOTED.add(note)
         log.warning("tyres.tir_file: %s", note)
-    return wheel_N
 
 
 def _add_tyres(builder, plant, car, scene, driveshafts):
@@ -243,14 +211,12 @@ def _add_tyres(builder, plant, car, scene, driveshafts):
     magic = None
     slip = getattr(tyres, "slip", None)
     if isinstance(tyres, (MagicFormula, LinearTyre)):
-        magic = MagicFormulaTyre.from_file(tir_path(tyres.tir_file))
-        wheel_N = _check_tyre_load_range(magic, plant, scene.car)
+        magic = read_tyre(tyres.tir_file)
+        _note_tyre_load(magic, scene.car)
         if slip is not None and slip.relaxation and slip.relaxation_lengths_from_file:
+            # at the wheel load at rest: the plant's weight over four wheels
+            wheel_N = plant.CalcTotalMass(plant.CreateDefaultContext()) * 9.81 / 4.0
             sigma = relaxation_lengths_m(magic, wheel_N)
-            if sigma is None:
-                raise BuildError(f"tyres.slip.relaxation_lengths_from_file: {magic.name} "
-                                 f"({magic.form}) has no relaxation data (PAC2002: PTX*/PTY*; "
-                                 "MF 6.x: LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS)")
             slip = dataclasses.replace(slip, relaxation_length_long_m=sigma[0],
                                        relaxation_length_lat_m=sigma[1])
     v = scene.car.tyre
@@ -265,10 +231,6 @@ def _add_tyres(builder, plant, car, scene, driveshafts):
         linear=isinstance(tyres, LinearTyre), time_step_s=scene.time_step_s,
         driveshafts=driveshafts, **kwargs))
     tyre.set_name("tyres")
-    try:
-        tyre.check_time_step(scene.time_step_s, scene.car.mass.wheel_spin_inertia_kgm2)
-    except ValueError as e:
-        raise BuildError(f"plant.time_step: {e}") from None
     tyre.connect(builder, plant)
     return tyre
 

@@ -19,7 +19,7 @@ failure that names the difference)::
                                   run|infrastructure; else null), wall_s (the task on its
                                   worker: build, equilibrium unless cached, run), worker,
                                   finished_utc, error, traceback
-    DIR/runs/<hash>/scene.yaml    the scene (rerun it: python -m drake_car.run --scene it)
+    DIR/runs/<hash>/scene.yaml    the scene (rerun it: drake-car-run --scene it)
     DIR/runs/<hash>/history.csv, run.json, diagram.dot   an ok run's files (their sha256 in
                                   status.json's "files": checked on resume, a damaged run is
                                   run again; a folder with a *.pkl is refused)
@@ -54,19 +54,19 @@ from pathlib import Path
 from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.law.checks import one_line
+from drake_car.law.errors import RunFailed
 from drake_car.results.files import run_texts
 from drake_car.results.provenance import code_versions
 from drake_car.results.record import run_from_texts
-from drake_car.scene.load import check_scene, dump_scene, scene_hash
+from drake_car.scene.load import dump_scene, scene_hash
 from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
 from drake_car.sweep.scheduler import CONNECT_TIMEOUT_S, check_scheduler
 from drake_car.sweep.store import (
-    INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, append_index_row, check_layout,
-    commit_run, damage, failure_kind, files_read, folder_lock, key_parts, load_run,
-    read_status, rebuild_index, remove_stale, run_key, sweep_output)
-from drake_car.sweep.store import announce_other_code as _announce_other_code
+    INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, announce_other_code, append_index_row,
+    check_layout, commit_run, damage, failure_kind, files_read, key_parts, load_run,
+    read_status, run_key, writing)
 from drake_car.systems.failure import SimulationFailure
 
 LOOPBACK = "127.0.0.1"
@@ -134,12 +134,13 @@ def run_task(items):
     return results
 
 
-class OtherCode(RuntimeError):
+class OtherCode(RunFailed):
     """A worker's code, versions or files differ from what the run's key was made of."""
 
 
 def _scene_of(text, parts):
-    scene = check_scene(yaml_load_typed(schema=Scene, data=text))
+    # The parent checked the scene; its hash says this is that scene: not checked again.
+    scene = yaml_load_typed(schema=Scene, data=text)
     if scene_hash(scene) != parts["scene_hash"]:
         raise RuntimeError(f"the scene's YAML loads back as {scene_hash(scene)}, "
                            f"not {parts['scene_hash']}")
@@ -305,7 +306,7 @@ def missing(scenes, out_dir, *, rerun_failed=False, jobs=None):
             record = None
         if not kept(record, rerun_failed=rerun_failed):
             todo.append(job)
-    _announce_other_code(runs, {job.parts["scene_hash"]: job for job in todo})
+    announce_other_code(runs, {job.parts["scene_hash"]: job for job in todo})
     return todo
 
 
@@ -340,30 +341,16 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
         status[job.hash] = record["status"]
         counts[record["status"]] += 1
 
-    with sweep_output(out):  # a new folder that gets no run is removed again
-        runs.mkdir(parents=True, exist_ok=True)
-        with folder_lock(out):
-            stopped = True
-            try:
-                remove_stale(runs)
-                rebuild_index(out)
-                todo = missing(scenes, out, rerun_failed=rerun_failed, jobs=jobs)
-                for key in jobs.keys() - {job.hash for job in todo}:
-                    status[key] = read_status(runs / key)["status"]
-                counts["reused"] = len(status)
-                if todo and client is not None:
-                    compute(client, todo, done, progress=progress)
-                elif todo:
-                    with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
-                        compute(own, todo, done, progress=progress)
-                stopped = False
-            finally:
-                remove_stale(runs)
-                try:
-                    rebuild_index(out)
-                except OSError:
-                    if not stopped:  # else the error that stopped the sweep goes up
-                        raise
+    with writing(out):  # locked, its index rebuilt before and after
+        todo = missing(scenes, out, rerun_failed=rerun_failed, jobs=jobs)
+        for key in jobs.keys() - {job.hash for job in todo}:
+            status[key] = read_status(runs / key)["status"]
+        counts["reused"] = len(status)
+        if todo and client is not None:
+            compute(client, todo, done, progress=progress)
+        elif todo:
+            with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
+                compute(own, todo, done, progress=progress)
     return {**counts, "wall_s": time.perf_counter() - began, "status": status,
             "hashes": {name: key for key, job in jobs.items() for name in job.names}}
 
@@ -387,7 +374,7 @@ def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
         results = {key: load_run(out_dir, key) for key in jobs}
     else:
         def keep(job, record, result):
-            results[job.hash] = (record, run_from_texts(result) if record["status"] == "ok"
+            results[job.hash] = (record, run_from_texts(result, trusted=True) if record["status"] == "ok"
                                  else result)
         with (contextlib.nullcontext(client) if client is not None else
               dask_client(scheduler, min(workers or cores(), len(jobs)))) as own:

@@ -166,7 +166,8 @@ def load_run(out_dir, key):
     why = damage(folder, record)
     if why:
         raise OutputError(f"{folder}: {why}; run the sweep again (damaged runs are rerun)")
-    return record, run_from_texts(read_texts(folder), str(folder))
+    # The files are what was committed (their checksums): the scene is not checked again.
+    return record, run_from_texts(read_texts(folder), str(folder), trusted=True)
 
 
 def commit_run(runs, job, record, result):
@@ -262,6 +263,32 @@ def sweep_output(out):
         raise OutputError(f"--out {out}: {reason}" + (
             f"; the runs finished ({kept}) are kept: run the same command again to go on"
             if kept else "")) from None
+
+
+@contextlib.contextmanager
+def writing(out):
+    """Sweep folder ``out`` being written: ``sweep_output`` (an OS error one line; a new folder
+    that gets no run removed again), its lock, its temporary run folders removed and its index
+    rebuilt before and after (after an error too, where a second OS error does not hide the
+    one that stopped the sweep). Yields ``out``/runs."""
+    out = Path(out)
+    runs = out / "runs"
+    with sweep_output(out):
+        runs.mkdir(parents=True, exist_ok=True)
+        with folder_lock(out):
+            stopped = True
+            try:
+                remove_stale(runs)
+                rebuild_index(out)
+                yield runs
+                stopped = False
+            finally:
+                remove_stale(runs)
+                try:
+                    rebuild_index(out)
+                except OSError:
+                    if not stopped:
+                        raise
 
 
 def kept_runs(out):

@@ -1,6 +1,6 @@
 """The strut rig's study: loops for the friction sets at several side loads, friction against
 side load, amplitude and frequency, the rod's rotation, and a fit to a measured (or synthetic)
-loop. Used by ``experiments/strut_rig.py``."""
+loop. Used by ``drake-car-strut-rig``."""
 
 import dataclasses
 

@@ -13,8 +13,8 @@ sinusoidally through the rig's load cell. Writes into DIR:
   measured_fit.json  with --measured CSV (columns stroke_m, force_N, one row per sample at
                    --sample_period_s; the test's --side_force_N, --amplitude_m, --frequency_hz)
 
-Example:  python experiments/strut_rig.py --out results/strut_rig
-          python experiments/strut_rig.py --out results/fit --measured loop.csv \\
+Example:  drake-car-strut-rig --out results/strut_rig
+          drake-car-strut-rig --out results/fit --measured loop.csv \\
               --side_force_N 1500 --amplitude_m 0.01 --frequency_hz 1 --sample_period_s 0.001
 """
 
@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.law.checks import ParameterError
 from drake_car.model.parameters import CarParameters
 from drake_car.results.files import write_csv, write_json
@@ -49,7 +49,7 @@ def read_loop(path):
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, name="strut_rig")
     p.add_argument("--quick", action="store_true", help="three side loads, no variants")
     p.add_argument("--measured", default=None, help="a measured loop to fit (CSV)")
     p.add_argument("--side_force_N", type=cli.positive("side_force_N"), default=1000.0)
