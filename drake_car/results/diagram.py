@@ -17,8 +17,9 @@ def write_diagram_svg(dot_text, path):
                                 "the diagram", "dot")
     svg = subprocess.run([dot, "-Tsvg"], input=dot_text, capture_output=True, text=True,
                          check=True, timeout=120).stdout
-    Path(path).write_text(svg)
-    Path(path).with_suffix(".dot").write_text(dot_text)
+    from drake_car.results.files import write_text  # the one writer (it imports this module)
+    write_text(path, svg)
+    write_text(Path(path).with_suffix(".dot"), dot_text)
 
 
 # -- the Diagram at a glance ------------------------------------------------------------------

@@ -142,8 +142,8 @@ def output_folder(out_dir):
         try:
             with _os_errors_named(out_dir, parent):
                 staging.mkdir()
-                (staging / MARKER).write_text("written by drake_car; replaced whole by the "
-                                              "next run that writes here\n")
+                write_text(staging / MARKER, "written by drake_car; replaced whole by the "
+                           "next run that writes here\n")
             with _os_errors_named(out_dir, parent):
                 yield staging
             if not (staging / "README.md").exists():  # what the columns mean
