@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from drake_car.results.diagram import write_diagram_svg
+from drake_car.results.diagram import diagram_overview_dot, diagram_svg
 from drake_car.results.provenance import provenance
 
 
@@ -142,6 +142,17 @@ def write_run(run, folder, *, diagram=True):
             write_text(folder / name, text)
     if diagram:
         write_diagram_svg(run.diagram_dot, folder / "diagram.svg")
+
+
+def write_diagram_svg(dot_text, path):
+    """Graphviz ``dot_text`` drawn as SVG at ``path``, the .dot kept beside it."""
+    write_text(path, diagram_svg(dot_text))
+    write_text(Path(path).with_suffix(".dot"), dot_text)
+
+
+def write_diagram_overview_svg(dot_text, path):
+    """``results.diagram.diagram_overview_dot`` of Drake's Graphviz text, drawn as SVG."""
+    write_text(path, diagram_svg(diagram_overview_dot(dot_text)))
 
 
 def run_texts(run, **extra):
