@@ -83,16 +83,25 @@ class MagicFormulaTyre:
         mf6 = self.form in (formats.MF61, formats.MF62)
         fz0_scaled = values["FNOMIN"] * values["LFZO"]
         dpi, p_ratio = 0.0, 1.0
+        asked = self.pressure_Pa
+        if asked is not None and not mf6:
+            raise TirFileError(f"{self.name}: pressure_Pa = {asked:g} has no effect: the file is "
+                               f"{self.form}, which has no inflation-pressure terms (MF 6.x has)")
+        if asked is not None and not 0 < asked < math.inf:
+            raise TirFileError(f"{self.name}: pressure_Pa = {asked:g} must be a finite number > 0")
         if mf6:
             nominal = values.get("NOMPRES")
-            pressure = self.pressure_Pa if self.pressure_Pa is not None else values.get(
-                "INFLPRES", nominal)
+            pressure = asked if asked is not None else values.get("INFLPRES", nominal)
             if nominal is not None and pressure is not None:
                 if not (nominal > 0 and pressure > 0):
                     raise TirFileError(f"{where('NOMPRES')}: NOMPRES and INFLPRES must be > 0")
                 dpi, p_ratio = (pressure - nominal) / nominal, pressure / nominal
-            elif self.pressure_Pa is not None:
+            elif asked is not None:
                 raise TirFileError(f"{self.name}: no NOMPRES; the pressure terms cannot be used")
+            low, high = values.get("PRESMIN", 0.0), values.get("PRESMAX", math.inf)
+            if asked is not None and not low <= asked <= high:
+                raise TirFileError(f"{where('PRESMAX')}: pressure_Pa = {asked:g} lies outside "
+                                   f"the file's PRESMIN..PRESMAX = {low:g}..{high:g} Pa")
 
         def degressive(scale):  # λμ' = Aμ λμ* / (1 + (Aμ - 1) λμ*), Aμ = 10 (4.E8)
             return 10.0 * scale / (1.0 + 9.0 * scale) if mf6 else scale
