@@ -858,7 +858,9 @@ def _tmpfs_available():
 ], ids=["tyre", "run", "sweep"])
 def test_a_real_full_disk_is_one_line_and_leaves_nothing(command, size, tmp_path):
     """The issue's commands on a real tmpfs of ``size`` (mounted in a user namespace, no
-    root): exit 2, one line naming --out and "No space left on device", the disk left empty."""
+    root): exit 2, one line naming --out and "No space left on device", the disk left empty
+    (before: a traceback; then, after issue 29, "error: No space left on device", naming
+    nothing; the sweep left sweep.json and runs/)."""
     import shlex
     disk = tmp_path / "disk"
     disk.mkdir()
@@ -869,6 +871,7 @@ def test_a_real_full_disk_is_one_line_and_leaves_nothing(command, size, tmp_path
                           text=True, timeout=600, env=dict(os.environ, PYTHONPATH=str(ROOT)))
     lines = [line for line in done.stderr.splitlines() if line.startswith("error:")]
     assert done.returncode == 2 and len(lines) == 1, done.stderr[-800:]
+    assert f"--out {disk / 'out'}: " in lines[0], lines  # the output, named
     assert "No space left on device" in lines[0] and "Traceback" not in done.stderr
     assert done.stdout.strip() == "", done.stdout  # nothing left on the disk
 
