@@ -72,12 +72,13 @@ def line_of(text, key):
 
 @functools.lru_cache(maxsize=1)
 def synthetic_loop():
-    """The strut rig's synthetic measured loop (the rig command's synthetic.csv: the car's
-    strut at μs 0.3, μd 0.22, 1000 N, ±10 mm at 1 Hz, 1 ms samples, plus 10 N and 2 µm of noise,
-    seed 23): (t, stroke, force)."""
+    """A synthetic measured loop (the rig command's synthetic.csv as issue 30 took it, before
+    issue 31 loaded the rig at the car's side load at rest: the car's strut at μs 0.3, μd 0.22,
+    1000 N at the strut's lower mount, ±10 mm at 1 Hz, 1 ms samples, plus 10 N and 2 µm of
+    noise, seed 23): (t, stroke, force)."""
     from drake_car.law.friction.frd import StrutFrictionParameters
     from drake_car.model.parameters import CarParameters
-    from drake_car.sim.strut_rig import StrutRigOptions, simulate_strut_rig
+    from drake_car.sim.rigs.strut import StrutRigOptions, simulate_strut_rig
     options = StrutRigOptions(side_force_N=1000.0, stroke_amplitude_m=0.01,
                               stroke_frequency_hz=1.0)
     h = simulate_strut_rig(CarParameters(), options,
@@ -419,8 +420,8 @@ def test_an_interrupt_stops_a_run_between_monitor_chunks(signum, raised):
 
     from conftest import paper_scene
     from drake_car.results.folder import terminate_as_exit
-    from drake_car.sim.simulate import Runner
-    runner = Runner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
+    from drake_car.sim.simulate import SceneRunner
+    runner = SceneRunner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
     runner.start()
     timer = threading.Timer(1.0, os.kill, (os.getpid(), getattr(signal, signum)))
     timer.start()
@@ -883,7 +884,7 @@ def test_a_loop_the_law_does_not_describe_is_flagged():
     proportional to the speed, a damper's oil, is not flagged: over the middle half of the
     stroke, where μd is read, the speed varies by 13 % and μd takes it in.)"""
     from drake_car.model.parameters import CarParameters
-    from drake_car.sim.strut_rig import StrutRigOptions, eq4_normal_force_N
+    from drake_car.sim.rigs.strut import StrutRigOptions, eq4_normal_force_N
     from drake_car.study.rig.measured import residual_check
     t, stroke, force = synthetic_loop()
     options = StrutRigOptions(side_force_N=1000.0)

@@ -2,7 +2,7 @@
 
 μd is the sliding force over N(q) (``analysis.loop_statistics``). μs is not the peak over N: a
 rig's peak overshoots μs·N by what its dynamics add after the break-away (the knuckle's mass
-against the load path's stiffness). The fit runs the rig (``sim.strut_rig``) with the measured
+against the load path's stiffness). The fit runs the rig (``sim.rigs.strut``) with the measured
 test's side load, stroke and frequency and finds, the μs whose simulated
 apparent μs (the same estimator on the simulated loop) equals the measured one: the rig runs
 at ``GRID_POINTS`` values of μs from 0.75 × the apparent value (or μd) to the apparent value
@@ -25,7 +25,7 @@ import numpy as np
 from scipy import stats
 
 from drake_car.law.friction.frd import StrutFrictionParameters
-from drake_car.sim.strut_rig import eq4_normal_force_N, simulate_strut_rig
+from drake_car.sim.rigs.strut import eq4_normal_force_N, simulate_strut_rig
 from drake_car.study.rig.analysis import LoopError, loop_statistics
 from drake_car.study.rig.measured import MU_MAX, read_loop, residual_check, rig_of_loop
 

@@ -5,7 +5,7 @@ A loop is a CSV of samples: ``stroke_m`` (the rod's extension from its design po
 ``force_N`` (the load cell's force on the knuckle, N, + along + stroke) and optionally
 ``t_s`` (s). Refused (``LoopError``, naming the column or the option and what is allowed):
 
-- units by magnitude: a stroke beyond the strut's travel on the rig (``sim.strut_rig``'s limit:
+- units by magnitude: a stroke beyond the strut's travel on the rig (``sim.rigs.strut``'s limit:
   the rod keeps a quarter of its guide l, and at most 0.05 m), a stroke in mm is a thousand
   times that; a force beyond what μ <= 2 allows at the side load (eq. 4's N(q) on the rig,
   times ``OVERSHOOT`` for the rig's peak after a break-away, plus the knuckle's inertia
@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from drake_car.sim.strut_rig import (
+from drake_car.sim.rigs.strut import (
     MAX_STROKE_AMPLITUDE_M, StrutRigOptions, eq4_normal_force_N, stroke_limit_m)
 from drake_car.study.rig.analysis import LoopError, reversals
 
