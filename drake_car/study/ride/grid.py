@@ -52,8 +52,8 @@ class RideStudy:
     # ``window_s`` analysed
     settle_window_s: float = 1.0
     window_s: float = 6.0
-    # the car's front tracks' width for the road's coherence (m): the Escort's front track
-    track_m: float = 1.39
+    # the tracks' width for the road's coherence (m); None: the car's front track
+    track_m: typing.Optional[float] = None
 
     def check(self):
         """Refuses (ParameterError naming the field) a road class ISO 8608 does not define, a
@@ -82,9 +82,10 @@ class RideStudy:
         return max(DEFAULT_ROAD_M, float(math.ceil(need + ROAD_MARGIN_M)))
 
 
-def base_scene():
+def base_scene(scene_text=None):
+    """``scenes/ride.yaml``'s ``ride`` with ``scene_text`` laid over it."""
     from drake_car.data import resource
-    return load_scene(resource("scenes") / "ride.yaml", child="ride")
+    return load_scene(resource("scenes") / "ride.yaml", child="ride", scene_text=scene_text)
 
 
 def speed_up_s(speed_kph):
@@ -112,7 +113,8 @@ def ride_scene(study: RideStudy, road_class, speed_kph, mu_s, *, half=False, bas
         speed_up_s=speed_up_s(speed_kph), straight_s=0.0,
         steer_s=study.settle_window_s + study.window_s, calm_s=0.0)
     manoeuvre = dataclasses.replace(base.manoeuvre, timeline=timeline)
-    road = _road(road_class, study.seed, study.road_m(), study.track_m)
+    track = base.car.front.track_m if study.track_m is None else study.track_m
+    road = _road(road_class, study.seed, study.road_m(), track)
     car, friction = base.car, None
     if mu_s > 0:
         law = dataclasses.replace(StrutFrictionParameters(), mu_s=float(mu_s),
@@ -148,11 +150,11 @@ def analysed_from_s(scene, study: RideStudy):
     return t.settle_s + t.speed_up_s + study.settle_window_s
 
 
-def ride_scenes(study: RideStudy, order=None):
+def ride_scenes(study: RideStudy, order=None, scene_text=None):
     """{name: scene} of every run and its half-step twin; ``order``: a list of (class, speed)
-    to run first (the rest follow)."""
+    to run first (the rest follow); ``scene_text`` laid over the base scene."""
     study.check()
-    base = base_scene()
+    base = base_scene(scene_text)
     cells = [(c, v) for v in study.speeds_kph for c in study.classes]
     if order:
         cells = [c for c in order if c in cells] + [c for c in cells if c not in order]
