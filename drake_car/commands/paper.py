@@ -43,8 +43,8 @@ from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene_file
 from drake_car.scene.scene import MeshcatReplay, NoVisualization, PrescribedRotation
-from drake_car.results.diagram import write_diagram_overview_svg, write_diagram_svg
-from drake_car.results.files import write_csv, write_json, write_run
+from drake_car.results.files import (
+    write_csv, write_diagram_overview_svg, write_diagram_svg, write_json, write_run)
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
 from drake_car.study.paper.figures import all_figures
