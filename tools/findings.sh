@@ -69,7 +69,8 @@ for study in $STUDIES; do
   {
     echo "Made by \`$script $*\` at commit $COMMIT ($DATE, ${wall} s of wall; tools/findings.sh copied its report.md here, links to its output files shown as names)."
     echo
-    sed -E 's/\[([^]]+)\]\(([^): ]+\.(png|svg|html|csv|json|txt))\)/`\2`/g' "$SCRATCH/$command/report.md"
+    sed -E -e 's/!?\[([^]]*)\]\(([^): ]+\.(png|svg|html|csv|json|txt))\)/`\2`/g' \
+      "$SCRATCH/$command/report.md"
   } > "docs/findings/$study.md"
   echo "findings: wrote docs/findings/$study.md (${wall} s of wall; runs in $SCRATCH/$command)" >&2
 done

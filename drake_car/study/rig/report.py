@@ -11,7 +11,7 @@ def report(*, scene_name, at_rest, rows, law, fit, runs, prov):
     ``runs`` how the rig's runs went, ``prov`` the provenance."""
     shares = ", ".join(f"{name} {value:+.1f} N" for name, value in at_rest["shares_N"].items())
     lines = [
-        f"# The strut side-load rig: {scene_name}'s front strut", "",
+        f"# The strut side-load rig: the front strut of the car of scene `{scene_name}`", "",
         f"Made by `{prov['command']}`, commit {prov['git_commit']}"
         f"{' (uncommitted changes)' if prov['dirty'] else ''}, drake {prov['drake']}, "
         f"{prov['created_utc']}; {runs['runs']} rig runs, {runs['cpu_s']:.0f} s of CPU.", "",
