@@ -11,14 +11,17 @@
 #                                            its report then gives no numerical error)
 #
 # Environment: PYTHON (default .venv/bin/python), SCRATCH (default a new temporary folder; its
-# runs are kept there). The commands run from this checkout (PYTHONPATH), so a worktree's code
-# is the code that runs. A study that fails stops the script; the files of those before it
-# are already written.
+# runs are kept there). The commands run from a clone of this checkout's commit in
+# SCRATCH/src (PYTHONPATH), so the code that runs is the commit the files name, whatever is
+# edited here meanwhile (the sweeps refuse a worker whose code differs from the parent's);
+# uncommitted changes are not in the run (a warning says so). A study that fails stops the
+# script; the files of those before it are already written.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 PYTHON=${PYTHON:-$ROOT/.venv/bin/python}
 SCRATCH=${SCRATCH:-$(mktemp -d /tmp/drake_car_findings.XXXXXX)}
+SCRATCH=$(cd "$(dirname "$SCRATCH")" && pwd)/$(basename "$SCRATCH")
 STUDIES="paper handling strut_rig ride car_checks"
 PAPER_VERIFY=""
 while [ $# -gt 0 ]; do
@@ -26,20 +29,24 @@ while [ $# -gt 0 ]; do
     --design) STUDIES="$STUDIES design" ;;
     --only) STUDIES=${2//,/ }; shift ;;
     --no_verify) PAPER_VERIFY="--no_verify" ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {print}' "$0"; exit 0 ;;
     *) echo "findings.sh: unknown option $1 (allowed: --design, --only LIST, --no_verify)" >&2
        exit 2 ;;
   esac
   shift
 done
 
-# The code that runs: its commit, and whether it had changes beyond the docs this writes.
+# The code that runs: this checkout's commit, cloned (nothing uncommitted).
 COMMIT=$(git rev-parse --short=7 HEAD)
-if [ -n "$(git status --porcelain --untracked-files=no -- . ':!docs' ':!README.md')" ]; then
-  COMMIT="$COMMIT with uncommitted changes"
+if [ -n "$(git status --porcelain --untracked-files=no)" ]; then
+  echo "findings.sh: WARNING: uncommitted changes here are not in the run (commit $COMMIT is)" >&2
 fi
 DATE=$(date -u +%Y-%m-%d)
 mkdir -p docs/findings "$SCRATCH"
+SRC=$SCRATCH/src
+rm -rf "$SRC"
+git clone -q --no-checkout "$ROOT" "$SRC"
+git -C "$SRC" checkout -q --detach "$(git rev-parse HEAD)"
 
 # study -> the command's arguments (its module is drake_car.commands.<command>)
 args_of() {
@@ -62,7 +69,7 @@ for study in $STUDIES; do
   script="drake-car-${command//_/-}"
   echo "findings: $script $* ..." >&2
   start=$(date +%s)
-  PYTHONPATH=$ROOT "$PYTHON" -m "drake_car.commands.$command" "$@" --quiet
+  (cd "$SRC" && PYTHONPATH=$SRC "$PYTHON" -m "drake_car.commands.$command" "$@" --quiet)
   wall=$(( $(date +%s) - start ))
   # The report as the command wrote it; its links to the output folder's files (figures,
   # CSVs) become names in code type: the files stay in the scratch folder, not in docs/.
@@ -70,7 +77,7 @@ for study in $STUDIES; do
     echo "Made by \`$script $*\` at commit $COMMIT ($DATE, ${wall} s of wall; tools/findings.sh copied its report.md here, links to its output files shown as names)."
     echo
     sed -E -e 's/!?\[([^]]*)\]\(([^): ]+\.(png|svg|html|csv|json|txt))\)/`\2`/g' \
-      "$SCRATCH/$command/report.md"
+      -e "s#$SRC/##g" "$SCRATCH/$command/report.md"
   } > "docs/findings/$study.md"
   echo "findings: wrote docs/findings/$study.md (${wall} s of wall; runs in $SCRATCH/$command)" >&2
 done
