@@ -176,3 +176,6 @@ def test_the_command_puts_the_scene_car_on_the_rig(tmp_path):
     assert (fit["true_mu_s"], fit["true_mu_d"]) == (0.4, 0.3)
     assert fit["side_force_point_below_top_m"] == 0.0
     assert abs(fit["fit"]["mu_s"] - 0.4) <= fit["fit"]["mu_s_ci95"], fit["fit"]
+    report = (out / "report.md").read_text()  # the same numbers, for a reader
+    assert f"N = {expected.normal_N:.1f} N" in report, report[:600]
+    assert report.count("\n| 0.") == len(sides) * 2, "a row per rig run (two friction sets)"

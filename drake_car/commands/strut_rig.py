@@ -16,6 +16,7 @@ into DIR:
   synthetic.csv, fit.json
                    the synthetic measured loop (the rig with the scene's law, else μs 0.3,
                    μd 0.22, at the car's side load at rest, plus noise) and the fit to it
+  report.md        the car's strut at rest, every rig run's break-away and sliding, the fit
   measured_fit.json  with --measured CSV (columns stroke_m in m, force_N in N, optionally
                    t_s; one row per sample) and the test's --side_force_N: the fit, whether
                    it is a confident value, the test's options
@@ -37,12 +38,13 @@ Example:  drake-car-strut-rig --out results/strut_rig
 import time
 
 from drake_car.commands import cli
-from drake_car.results.files import write_csv, write_json
+from drake_car.results.files import write_csv, write_json, write_text
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
 from drake_car.study.rig.figures import plot_loops, plot_side_load
 from drake_car.study.rig.fit import fit_loop_file
 from drake_car.study.rig.loops import SYNTHETIC_NOISE, rig_study
+from drake_car.study.rig.report import report
 
 
 def main(argv=None):
@@ -97,6 +99,9 @@ def main(argv=None):
             side_force_point_below_top_m=options.side_force_point_below_top_m,
             fit=fit.summary(), runs=study.runs,
             wall_s=time.time() - start, cpu_s=time.process_time() - cpu))
+        write_text(out / "report.md", report(
+            scene_name=scene.name, at_rest=rest, rows=study.rows, law=study.synthetic_law,
+            fit=fit, runs=study.runs, prov=provenance()))
     print(f"the car's strut at rest: N = {rest['car_normal_N']:.1f} N; on the rig "
           f"{rest['rig_side_force_N']:.1f} N at the top mount gives N = "
           f"{rest['rig_normal_N']:.1f} N")
