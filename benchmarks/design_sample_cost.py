@@ -10,22 +10,20 @@ quiet machine and compare with the study's report.
   python benchmarks/design_sample_cost.py [--per_part 6] [--workers 2]
 """
 
-import argparse
 import collections
 import time
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import scene_hash
 from drake_car.study.design import runs as runs_of
 from drake_car.study.design.spec import load_study
-from drake_car.sweep.runner import cores, run_scenes
+from drake_car.sweep.runner import run_scenes
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = cli.parser(__doc__, prog="benchmarks/design_sample_cost.py", out=False, cluster=True)
     p.add_argument("--per_part", type=int, default=6)
-    p.add_argument("--workers", type=int, default=None)
     args = p.parse_args()
     if args.per_part < 1:
         p.error("--per_part must be >= 1")
@@ -44,9 +42,10 @@ def main():
         for k in range(count):
             name = names[int(k * len(names) / count)]
             sample[name] = (role, part[name][0])
-    workers = args.workers or cores()
     began = time.perf_counter()
-    runs = run_scenes({n: s for n, (_, s) in sample.items()}, workers=workers)
+    with cli.cluster_client(args, len(sample)) as client:
+        workers = len(client.scheduler_info()["workers"])
+        runs = run_scenes({n: s for n, (_, s) in sample.items()}, client=client)
     wall = time.perf_counter() - began
     per_role = collections.defaultdict(list)
     for name, run in runs.items():

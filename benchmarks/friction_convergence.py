@@ -7,18 +7,17 @@ largest distance from the law's (the explicit scheme at a quarter of its limit),
   python benchmarks/friction_convergence.py [--out results/convergence]
 """
 
-import argparse
 import time
-from pathlib import Path
 
 
 import numpy as np  # noqa: E402
 
+from drake_car.commands import cli  # noqa: E402
 from drake_car.law.friction.frd import StrutFrictionParameters, shape_max_slope  # noqa: E402
 from drake_car.results.files import write_csv, write_json  # noqa: E402
 from drake_car.results.folder import output_folder  # noqa: E402
 from drake_car.results.provenance import provenance  # noqa: E402
-from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
+from drake_car.sim.rigs.friction import RigOptions, simulate_rig  # noqa: E402
 
 LAW = StrutFrictionParameters(mu_s=0.2, mu_d=0.15)
 CASE = dict(mass_kg=30.0, normal_force_N=500.0, spring_Npm=2.0e4, force_amp_N=150.0,
@@ -26,9 +25,7 @@ CASE = dict(mass_kg=30.0, normal_force_N=500.0, spring_Npm=2.0e4, force_amp_N=15
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--out", type=Path, default=None)
+    p = cli.parser(__doc__, prog="benchmarks/friction_convergence.py", out="optional")
     p.add_argument("--duration_s", type=float, default=0.5)
     args = p.parse_args()
     c = shape_max_slope(LAW.beta_shape) * LAW.mu_s * CASE["normal_force_N"] / LAW.dv_translation_mps

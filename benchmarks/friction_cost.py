@@ -13,12 +13,11 @@ Two scenes:
                                      [--out results/bench]
 """
 
-import argparse
 import dataclasses
 import statistics
 import sys
-from pathlib import Path
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.scene.load import load_scene
@@ -73,14 +72,12 @@ def report(title, samples, base_name, unit, per_step=None):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = cli.parser(__doc__, prog="benchmarks/friction_cost.py", out="optional")
     p.add_argument("--repeats", type=int, default=5, help="repeats of the settling car")
     p.add_argument("--sim_s", type=float, default=2.0, help="settling car: simulated s")
     p.add_argument("--lane_change_repeats", type=int, default=3,
                    help="repeats of the 10 s lane-change runs (0: skip them)")
     p.add_argument("--time_step_s", type=float, default=1e-3)
-    p.add_argument("--out", type=Path, default=None)
     args = p.parse_args()
     for name in ("repeats", "lane_change_repeats"):
         if getattr(args, name) < (1 if name == "repeats" else 0):

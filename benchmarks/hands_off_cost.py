@@ -13,13 +13,13 @@ seconds: this machine is shared.
   python benchmarks/hands_off_cost.py [--repeats 5] [--span_s 1.0] [--forms reflected coupler]
 """
 
-import argparse
 import dataclasses
 import os
 import statistics
 
 from step_cost import plant_alone, whole_diagram
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import hands_off_release_s
 from drake_car.scene.scene import HeldRack
@@ -28,8 +28,7 @@ from drake_car.study.design.spec import load_study
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = cli.parser(__doc__, prog="benchmarks/hands_off_cost.py", out=False)
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--span_s", type=float, default=1.0,
                    help="simulated seconds measured, from 0.2 s after the release")

@@ -23,13 +23,12 @@ How to read it:
   python benchmarks/reference_convergence.py [--quick] [--out DIR]
 """
 
-import argparse
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 
+from drake_car.commands import cli
 from drake_car.law.friction.coulomb import incline_acceleration_mps2
 from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.results.files import write_csv, write_json
@@ -132,11 +131,10 @@ def order_table(fractions=(1.0, 0.25, 0.0625)):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = cli.parser(__doc__, prog="benchmarks/reference_convergence.py", out="optional",
+                   out_help="a folder for the CSV tables (written all or nothing)")
     p.add_argument("--quick", action="store_true",
                    help="two steps per scheme and no order table (about a minute of CPU)")
-    p.add_argument("--out", type=Path, default=None, help="a new folder for the CSV tables")
     args = p.parse_args()
     reference = REFERENCE_STEPS_S[:2] if args.quick else REFERENCE_STEPS_S
     fast = FAST_STEPS_S[2:4] if args.quick else FAST_STEPS_S

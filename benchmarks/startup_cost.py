@@ -1,14 +1,13 @@
-"""What a process spends before and around its simulation: ``python -m drake_car.run`` on a
+"""What a process spends before and around its simulation: ``drake-car-run`` on a
 scene, against Python importing pydrake alone, with the static equilibrium from the disk cache
 (``sim.equilibrium_cache``, warmed first) and without it (``DRAKE_CAR_CACHE_DIR=off``: settled
 in the process, as before the cache). Wall and CPU (the child's user + system) per process,
 medians of ``--repeats``, interleaved. ``--tree`` runs another checkout's code (PYTHONPATH) for
 a before/after in one sitting. This machine is shared: compare in one sitting.
 
-  python benchmarks/startup_cost.py [--scene a_3] [--time_step_s 2e-3] [--repeats 3] [--tree DIR]
+  python benchmarks/startup_cost.py [--run a_3] [--time_step_s 2e-3] [--repeats 3] [--tree DIR]
 """
 
-import argparse
 import os
 import resource
 import statistics
@@ -17,6 +16,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from drake_car.commands import cli
 
 ROOT = Path(__file__).resolve().parents[1]
 IMPORT_ONLY = ("import pydrake.multibody.plant, pydrake.systems.analysis, "
@@ -34,17 +35,16 @@ def _timed(command, env):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--scene", default="a_3")
+    p = cli.parser(__doc__, prog="benchmarks/startup_cost.py", out=False)
+    p.add_argument("--run", default="a_3", help="an entry of scenes/paper_study.yaml")
     p.add_argument("--time_step_s", type=float, default=2e-3)
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--tree", type=Path, action="append", default=[],
                    help="another checkout to time too (repeatable)")
     args = p.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        run = [sys.executable, "-m", "drake_car.run", "--scene",
-               str(ROOT / "scenes" / "paper_study.yaml"), "--child", args.scene,
+        run = [sys.executable, "-m", "drake_car.commands.run", "--scene",
+               str(ROOT / "scenes" / "paper_study.yaml"), "--child", args.run,
                "--scene_text", f"plant: {{time_step: {args.time_step_s!r}}}", "--quiet"]
         cache = str(Path(tmp) / "cache")
         cases = {"import pydrake only": ([sys.executable, "-c", IMPORT_ONLY], ROOT, None)}
@@ -64,7 +64,7 @@ def main():
                     times[name].append(_timed(command, env))
                 else:
                     _timed(command, env)
-    print(f"{args.scene} at {args.time_step_s:g} s; median of {args.repeats}; load average "
+    print(f"{args.run} at {args.time_step_s:g} s; median of {args.repeats}; load average "
           f"{os.getloadavg()[0]:.2f} ({os.cpu_count()} cores, shared):")
     base = [statistics.median(x) for x in zip(*times["import pydrake only"])]
     for name, values in times.items():

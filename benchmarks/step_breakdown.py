@@ -20,25 +20,24 @@ What is left between the third and the plant alone is the two Python systems (ty
 driveshafts, strut friction: one discrete update each per step) and Drake's framework around a
 Diagram of ~30 systems whose inputs change every step.
 
-  python benchmarks/step_breakdown.py [--scene a_3] [--time_step_s 1e-3] [--rounds 30]
+  python benchmarks/step_breakdown.py [--run a_3] [--time_step_s 1e-3] [--rounds 30]
 """
 
-import argparse
 import os
 import statistics
 import time
 
 from step_cost import plant_alone_simulator
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene
-from drake_car.sim.simulate import Runner
+from drake_car.sim.simulate import SceneRunner
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--scene", default="a_3", help="an entry of scenes/paper_study.yaml")
+    p = cli.parser(__doc__, prog="benchmarks/step_breakdown.py", out=False)
+    p.add_argument("--run", default="a_3", help="an entry of scenes/paper_study.yaml")
     p.add_argument("--time_step_s", type=float, default=1e-3)
     p.add_argument("--t0_s", type=float, default=3.0, help="where the measured chunks start")
     p.add_argument("--chunk_s", type=float, default=0.1, help="simulated seconds per chunk")
@@ -57,7 +56,7 @@ def main():
     }
     advance = {}
     for name, text in texts.items():
-        runner = Runner(load_scene(resource("scenes/paper_study.yaml"), child=args.scene,
+        runner = SceneRunner(load_scene(resource("scenes/paper_study.yaml"), child=args.run,
                                    scene_text=text))
         runner.start()
         runner.advance_to(args.t0_s)
@@ -77,7 +76,7 @@ def main():
             cpu[name].append(1e6 * (time.process_time() - began) / steps)
     load_after = os.getloadavg()
     plant = statistics.median(cpu["plant alone"])
-    print(f"{args.scene} at {args.time_step_s:g} s, {args.rounds} chunks of {steps} steps per "
+    print(f"{args.run} at {args.time_step_s:g} s, {args.rounds} chunks of {steps} steps per "
           f"variant, alternately; CPU µs/step, medians; load average {load_before[0]:.2f} "
           f"before, {load_after[0]:.2f} after ({os.cpu_count()} cores):")
     for name, values in cpu.items():

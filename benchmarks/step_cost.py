@@ -11,14 +11,12 @@ process's CPU time and their ratios, with the load average (compare ratios, not 
 machine is shared; the CPU time is the steadier of the two under load). One more run of the whole
 Diagram times each Python system's callbacks in place.
 
-  python benchmarks/step_cost.py [--scene a_3] [--time_step_s 1e-3] [--repeats 5] [--out DIR]
+  python benchmarks/step_cost.py [--run a_3] [--time_step_s 1e-3] [--repeats 5] [--out DIR]
 """
 
-import argparse
 import os
 import statistics
 import time
-from pathlib import Path
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -28,6 +26,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import ConstantValueSource, ConstantVectorSource
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.model.channels import CarChannels
 from drake_car.model.car import add_car
@@ -41,7 +40,7 @@ from drake_car.results.files import write_json
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
 from drake_car.sim.build import build_diagram
-from drake_car.sim.simulate import Runner
+from drake_car.sim.simulate import SceneRunner
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.tyre import TyreSystem
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
@@ -69,10 +68,10 @@ def _since(began):
 
 
 def whole_diagram(scene, t0, span, *, column_form="reflected"):
-    """(wall, CPU) seconds for ``span`` simulated seconds from ``t0``, and the Runner. The span
-    runs as a study run does: in the divergence monitor's chunks (``Runner.advance_to``).
+    """(wall, CPU) seconds for ``span`` simulated seconds from ``t0``, and the runner. The
+    span runs as a study run does: in the divergence monitor's chunks (``Runner.advance_to``).
     ``column_form``: a hands-off scene's steering column (``model.steering.COLUMN_FORMS``)."""
-    runner = Runner(scene, built=build_diagram(scene, column_form=column_form))
+    runner = SceneRunner(scene, built=build_diagram(scene, column_form=column_form))
     runner.start()
     runner.advance_to(t0)
     began = _clocks()
@@ -165,7 +164,7 @@ def callback_split(scene, t0, span, steps):
                     spent[_name] += time.perf_counter_ns() - began
             setattr(cls, method, timed)
     try:
-        runner = Runner(scene)
+        runner = SceneRunner(scene)
         runner.start()
         runner.advance_to(t0)
         for name in spent:
@@ -178,18 +177,16 @@ def callback_split(scene, t0, span, steps):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--scene", default="a_3", help="an entry of scenes/paper_study.yaml")
+    p = cli.parser(__doc__, prog="benchmarks/step_cost.py", out="optional")
+    p.add_argument("--run", default="a_3", help="an entry of scenes/paper_study.yaml")
     p.add_argument("--time_step_s", type=float, default=1e-3)
     p.add_argument("--t0_s", type=float, default=4.0, help="where the measured span starts")
     p.add_argument("--span_s", type=float, default=2.0, help="simulated seconds measured")
     p.add_argument("--repeats", type=int, default=5)
-    p.add_argument("--out", type=Path, default=None)
     args = p.parse_args()
     if not (args.time_step_s > 0 and args.repeats >= 1 and args.span_s > 0):
         p.error("--time_step_s, --span_s must be > 0 and --repeats >= 1")
-    scene = load_scene(resource("scenes/paper_study.yaml"), child=args.scene,
+    scene = load_scene(resource("scenes/paper_study.yaml"), child=args.run,
                        scene_text=f"plant: {{time_step: {args.time_step_s!r}}}")
     steps = round(args.span_s / args.time_step_s)
     load_before = os.getloadavg()
@@ -206,7 +203,7 @@ def main():
     a = {c: statistics.median(alone[c]) for c in clocks}
     ratio = {c: w[c] / a[c] for c in clocks}
     split = callback_split(scene, args.t0_s, args.span_s, steps)
-    print(f"{args.scene} at {args.time_step_s:g} s, median of {args.repeats}, load average "
+    print(f"{args.run} at {args.time_step_s:g} s, median of {args.repeats}, load average "
           f"{load_before[0]:.2f} before, {load_after[0]:.2f} after (this machine: "
           f"{os.cpu_count()} cores):")
     for clock in clocks:
@@ -223,7 +220,7 @@ def main():
     if args.out:
         with output_folder(args.out) as out:
             write_json(out / "step_cost.json", provenance(
-                scene=args.scene, time_step_s=args.time_step_s, load_average=[
+                scene=args.run, time_step_s=args.time_step_s, load_average=[
                     load_before[0], load_after[0]], whole_us=whole, alone_us=alone,
                 median_whole_us=w, median_alone_us=a, ratio=ratio, callbacks_us=split))
 

@@ -39,10 +39,9 @@ removed. What none of them removes is Drake's own per-step work around a Diagram
 (event scan, time advance, the input chain into the plant, cache invalidation); a profile
 (perf, in the closing note of issue 32) splits that.
 
-  python benchmarks/step_rest.py [--scene a_3] [--time_step_s 1e-3] [--rounds 30]
+  python benchmarks/step_rest.py [--run a_3] [--time_step_s 1e-3] [--rounds 30]
 """
 
-import argparse
 import gc
 import os
 import statistics
@@ -54,10 +53,11 @@ from pydrake.systems import primitives
 from step_cost import plant_alone_simulator
 
 import drake_car.sim.build as build_module
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene
 from drake_car.sim.build import build_diagram
-from drake_car.sim.simulate import Runner
+from drake_car.sim.simulate import SceneRunner
 
 
 def _without_state_log(scene):
@@ -94,9 +94,8 @@ def _gain_writes_doubled(runner):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--scene", default="a_3", help="an entry of scenes/paper_study.yaml")
+    p = cli.parser(__doc__, prog="benchmarks/step_rest.py", out=False)
+    p.add_argument("--run", default="a_3", help="an entry of scenes/paper_study.yaml")
     p.add_argument("--time_step_s", type=float, default=1e-3)
     p.add_argument("--t0_s", type=float, default=3.0, help="where the measured chunks start")
     p.add_argument("--chunk_s", type=float, default=0.1, help="simulated seconds per chunk")
@@ -110,19 +109,19 @@ def main():
     step = f"plant: {{time_step: {args.time_step_s!r}}}"
 
     def scene_of(text=""):
-        return load_scene(resource("scenes/paper_study.yaml"), child=args.scene,
+        return load_scene(resource("scenes/paper_study.yaml"), child=args.run,
                           scene_text=step + ("\n" + text if text else ""))
 
     study = scene_of()
     runners = {
-        "study run": Runner(study),
-        "gain writes x2": Runner(study),
-        "no per-step state log": Runner(study, built=_without_state_log(study)),
-        "no SAP pacer": Runner(scene_of("simulator: {sap_pacer: false}")),
-        "no logged channels": Runner(scene_of("logging: {channels: []}")),
-        "monitor per chunk": Runner(scene_of(
+        "study run": SceneRunner(study),
+        "gain writes x2": SceneRunner(study),
+        "no per-step state log": SceneRunner(study, built=_without_state_log(study)),
+        "no SAP pacer": SceneRunner(scene_of("simulator: {sap_pacer: false}")),
+        "no logged channels": SceneRunner(scene_of("logging: {channels: []}")),
+        "monitor per chunk": SceneRunner(scene_of(
             f"simulator: {{monitor_period_s: {args.chunk_s!r}}}")),
-        "Python's GC off": Runner(study),
+        "Python's GC off": SceneRunner(study),
     }
     if runners["study run"].built.friction is not None:
         _gain_writes_doubled(runners["gain writes x2"])
@@ -164,7 +163,7 @@ def main():
     same = {name: "-" if name == "plant alone" else
             "yes" if np.array_equal(state(runners[name]), reference) else "NO"
             for name in cpu}
-    print(f"{args.scene} at {args.time_step_s:g} s from t = {args.t0_s:g} s, {args.rounds} "
+    print(f"{args.run} at {args.time_step_s:g} s from t = {args.t0_s:g} s, {args.rounds} "
           f"chunks of {steps} steps per variant, alternately; CPU µs/step; load average "
           f"{load_before[0]:.2f} before, {load_after[0]:.2f} after ({os.cpu_count()} cores)")
     interleaved = cold_cache(runners["study run"], alone, args.time_step_s,

@@ -16,11 +16,10 @@ waiting for the scheduler and the parent), which other load does not change. On 
 after the sweep, --empty_tasks tasks that do nothing are mapped and gathered as the sweep's are:
 their wall per task is the scheduler's (and the client's) own cost of a task, with no run in it.
 
-  python benchmarks/sweep_scaling.py [--runs 12] [--end_s 2.0] [--workers 1,2]
+  python benchmarks/sweep_scaling.py [--runs 12] [--end_s 2.0] [--worker_counts 1,2]
                                      [--equilibrium_in_runs] [--empty_tasks 200] [--out DIR]
 """
 
-import argparse
 import dataclasses
 import os
 import statistics
@@ -31,6 +30,7 @@ from pathlib import Path
 import psutil
 from distributed import Client
 
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import dump_scene, load_scene
 from drake_car.results.files import write_json
@@ -131,12 +131,11 @@ def phase(todo, workers, *, warm, empty_tasks=0):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = cli.parser(__doc__, prog="benchmarks/sweep_scaling.py", out="optional")
     p.add_argument("--runs", type=int, default=12, help="distinct runs (default: %(default)s)")
     p.add_argument("--end_s", type=float, default=2.0,
                    help="simulated seconds of each run (default: %(default)s)")
-    p.add_argument("--workers", default=f"1,{cores()}",
+    p.add_argument("--worker_counts", default=f"1,{cores()}",
                    help="worker counts, comma separated (default: %(default)s)")
     p.add_argument("--repeats", type=int, default=1,
                    help="rounds over the worker counts; medians are compared (default: 1)")
@@ -145,12 +144,11 @@ def main():
     p.add_argument("--empty_tasks", type=int, default=200,
                    help="tasks that do nothing, timed on each cluster after its sweep: the "
                         "scheduler's cost per task (0: none; default: %(default)s)")
-    p.add_argument("--out", type=Path, default=None, help="also write results.json here")
     args = p.parse_args()
-    counts = [int(w) for w in args.workers.split(",")]
+    counts = [int(w) for w in args.worker_counts.split(",")]
     if (args.runs < 1 or not 0 < args.end_s <= 10 or min(counts) < 1 or args.repeats < 1
             or not 0 <= args.empty_tasks <= 100000):
-        p.error("--runs >= 1, 0 < --end_s <= 10, --workers >= 1 each, --repeats >= 1, "
+        p.error("--runs >= 1, 0 < --end_s <= 10, --worker_counts >= 1 each, --repeats >= 1, "
                 "0 <= --empty_tasks <= 100000")
     todo = scenes(args.runs, args.end_s, apart=args.equilibrium_in_runs)
     print(f"{cores()} cores; load average {' '.join(f'{x:.2f}' for x in os.getloadavg())} "

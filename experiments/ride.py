@@ -1,12 +1,10 @@
-"""Ride on rough roads: ISO 8608 roads, ISO 2631-1 weighted comfort and wheel-load fluctuation
-against the struts' friction.
+"""Ride comfort and wheel loads on ISO 8608 roads against strut friction.
 
-The command is ``drake_car.commands.ride``, also installed as ``drake-car-ride``; ``--help`` says
+The command ``drake_car.commands.ride``, installed as ``drake-car-ride``; ``--help`` says
 what it writes.
 """
 
-from drake_car import cli
-from drake_car.commands.ride import main
+from drake_car.commands.ride import console
 
 if __name__ == "__main__":
-    cli.run_main(main)
+    console()

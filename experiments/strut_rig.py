@@ -1,12 +1,11 @@
-"""The strut side-load friction rig: the car's own front strut under a side force, its rod
-stroked sinusoidally; friction loops, break-away, and a fit of μs, μd to a measured loop.
+"""The car's front strut on a side-load friction rig: loops, break-away, and a fit of
+mu_s, mu_d to a measured loop.
 
-The command is ``drake_car.commands.side_load``, also installed as ``drake-car-strut-rig``;
-``--help`` says what it writes.
+The command ``drake_car.commands.strut_rig``, installed as ``drake-car-strut-rig``; ``--help`` says
+what it writes.
 """
 
-from drake_car import cli
-from drake_car.commands.side_load import main
+from drake_car.commands.strut_rig import console
 
 if __name__ == "__main__":
-    cli.run_main(main)
+    console()

@@ -14,21 +14,14 @@ from pathlib import Path
 
 import pytest
 
-from drake_car import cli
-from drake_car import run as run_command
-from drake_car.tyre import __main__ as tyre_command
+from drake_car.commands import cli
+from drake_car.commands import run as run_command
+from drake_car.commands import tyre as tyre_command
+
+from drake_car.commands import accuracy, calibrate, design, friction_rig, handling, paper
+from drake_car.commands import kinematics, settle
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "experiments"))
-
-import accuracy_cost  # noqa: E402
-import calibrate_lane_change  # noqa: E402
-import design_study  # noqa: E402
-import friction_rig  # noqa: E402
-import handling  # noqa: E402
-import lane_change  # noqa: E402
-import settle  # noqa: E402
-import suspension_kinematics  # noqa: E402
 
 TIR = (ROOT / "urdf" / "tyres" / "pacejka2006_205_60R15.tir").read_text()
 TYRE_DATA = Path(__file__).parent / "data" / "tyres"
@@ -198,35 +191,35 @@ CASES = [
      lambda t: ["--friction", "{law: {mu_s: 0.1, mu_d: 0.2}}"], "friction.law.mu_d"),
     ("settle: not a settle scene", settle.main,
      lambda t: ["--scene", "scenes/car.yaml:straight"], "!Settle"),
-    ("kinematics: bad car", suspension_kinematics.main,
+    ("kinematics: bad car", kinematics.main,
      lambda t: ["--scene_text", "car: {front: {guide_length_l_m: -1.0}}"],
      "car.front.guide_length_l_m"),
-    ("study: not a lane change", lane_change.main,
+    ("study: not a lane change", paper.main,
      lambda t: ["--scene_text", "manoeuvre: !Straight {}"], "lane changes"),
-    ("study: bad scene text", lane_change.main,
+    ("study: bad scene text", paper.main,
      lambda t: ["--scene_text", "friction: {law: {mu_s: high}}"], "friction.law.mu_s"),
-    ("accuracy sweep: bad scene", accuracy_cost.main,
+    ("accuracy sweep: bad scene", accuracy.main,
      lambda t: ["--scene_text", "plant: {time_step: -1.0}"], "plant.time_step"),
-    ("design study: a mitigation that makes no valid car", design_study.main,
+    ("design study: a mitigation that makes no valid car", design.main,
      lambda t: ["--study", _study(t, "spring_inclination_deg: 6.0}",
                                   "spring_inclination_deg: 60.0}") + ":study"],
      "mitigations[2] (side-load compensating spring (inclined 6 deg)): scene_text"),
-    ("design study: a factor that is no scene key", design_study.main,
+    ("design study: a factor that is no scene key", design.main,
      lambda t: ["--study", _study(t, "key: car.front.guide_length_l_m",
                                   "key: car.front.guide_length") + ":study"],
      "study.yaml: factor key 'car.front.guide_length': no field 'guide_length'"),
-    ("design study: rough road into the manoeuvre", design_study.main,
+    ("design study: rough road into the manoeuvre", design.main,
      lambda t: ["--study", _study(t, "length_m: 25.0", "length_m: 45.0") + ":study"],
      "monte_carlo.length_m"),
-    ("design study: no workers", design_study.main, lambda t: ["--workers", "0"], "--workers"),
-    ("design study: out is a foreign folder", design_study.main,
+    ("design study: no workers", design.main, lambda t: ["--workers", "0"], "--workers"),
+    ("design study: out is a foreign folder", design.main,
      lambda t: ["--quick", "--out", _foreign(t)], "holds no design study"),
-    ("design study: out is a file", design_study.main, lambda t: ["--out", _file(t)],
+    ("design study: out is a file", design.main, lambda t: ["--out", _file(t)],
      "is a file"),
-    ("study: no workers", lane_change.main, lambda t: ["--workers", "-1"], "--workers"),
+    ("study: no workers", paper.main, lambda t: ["--workers", "-1"], "--workers"),
     ("handling: bad scene text", handling.main,
      lambda t: ["--scene_text", "car: {mass: {total_mass_kg: -5.0}}"], "car.mass.total_mass_kg"),
-    ("calibration: bad scene", calibrate_lane_change.main,
+    ("calibration: bad scene", calibrate.main,
      lambda t: ["--scene_text", "manoeuvre: !LaneChange {amplitude_m: 5.0}",
                 "--out", str(t / "calibration.json")], "manoeuvre.amplitude_m"),
 ]
@@ -288,7 +281,7 @@ def test_there_are_at_least_thirty_cases():
 
 
 @pytest.mark.parametrize("args, key", [
-    (["-m", "drake_car.run", "--scene", "scenes/paper_study.yaml:a_1", "--scene_text",
+    (["-m", "drake_car.commands.run", "--scene", "scenes/paper_study.yaml:a_1", "--scene_text",
       "friction: {law: {mu_s: high}}"], "friction.law.mu_s"),
     (["experiments/friction_rig.py", "--mass_kg", "abc"], "--mass_kg"),
 ])
@@ -302,7 +295,7 @@ def test_a_real_process_exits_2_without_a_traceback(args, key, tmp_path):
 
 def _start(tmp_path, out, *extra):
     return subprocess.Popen(
-        [sys.executable, "-m", "drake_car.run", "--scene", "scenes/paper_study.yaml:a_3",
+        [sys.executable, "-m", "drake_car.commands.run", "--scene", "scenes/paper_study.yaml:a_3",
          "--scene_text", "simulator: {end_time_s: 8.0}", "--out", str(out), "--quiet", *extra],
         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
@@ -337,7 +330,7 @@ def test_second_writer_is_refused_and_a_reused_folder_is_replaced_whole(tmp_path
     first = _start(tmp_path, out)
     _wait_for(lambda: (tmp_path / ".out.lock").exists())
     second = subprocess.run(
-        [sys.executable, "-m", "drake_car.run", "--scene", "scenes/paper_study.yaml:a_1",
+        [sys.executable, "-m", "drake_car.commands.run", "--scene", "scenes/paper_study.yaml:a_1",
          "--scene_text", "simulator: {end_time_s: 0.1}", "--out", str(out), "--quiet"],
         cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert second.returncode == 2 and "another run" in second.stderr

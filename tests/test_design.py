@@ -306,7 +306,7 @@ def test_the_study_s_runs():
 @pytest.mark.slow
 def test_design_study_quick_end_to_end(tmp_path):
     out = tmp_path / "design"
-    command = [sys.executable, str(ROOT / "experiments" / "design_study.py"), "--out",
+    command = [sys.executable, str(ROOT / "experiments" / "design.py"), "--out",
                str(out), "--quick"]
     result = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]

@@ -29,13 +29,13 @@ def run(args, check=True, timeout=900):
 
 def test_generic_run_command_and_rerun_of_its_scene(tmp_path):
     first, second = tmp_path / "first", tmp_path / "second"
-    run(["-m", "drake_car.run", "--scene", "scenes/paper_study.yaml", "--child", "a_3",
+    run(["-m", "drake_car.commands.run", "--scene", "scenes/paper_study.yaml", "--child", "a_3",
          "--scene_text", "simulator: {end_time_s: 0.3}", "--out", first, "--quiet"])
     for name in ("history.csv", "scene.yaml", "run.json", "diagram.svg"):
         assert (first / name).stat().st_size > 0, name
     assert "<svg" in (first / "diagram.svg").read_text()[:3000]
     # The saved scene is what ran: rerun, it gives the same history bit for bit.
-    run(["-m", "drake_car.run", "--scene", first / "scene.yaml", "--out", second, "--quiet"])
+    run(["-m", "drake_car.commands.run", "--scene", first / "scene.yaml", "--out", second, "--quiet"])
     assert (first / "history.csv").read_bytes() == (second / "history.csv").read_bytes()
     record = json.loads((first / "run.json").read_text())
     assert record["frozen_sap_steps"] == 0 and record["steps"] == 300
@@ -58,7 +58,7 @@ def test_settle_script(tmp_path):
 
 def test_kinematics_script(tmp_path):
     out = tmp_path / "kin"
-    run(["experiments/suspension_kinematics.py", "--out", out, "--points", 5, "--scene_text",
+    run(["experiments/kinematics.py", "--out", out, "--points", 5, "--scene_text",
          "car: {front: {ball_joint_offset_b_m: 0.06}}"])
     table = read_csv(out / "kinematics.csv")
     assert list(table)[:8] == ["side", "wheel_travel_m", "camber_deg", "toe_deg", "caster_deg",
@@ -96,7 +96,7 @@ def test_main_job_smoke(tmp_path):
     or "not converged"), the six runs (each with its scene as it ran), the figures and the
     replay."""
     out = tmp_path / "study"
-    result = run(["experiments/lane_change.py", "--out", out, "--scene_text", SHORT,
+    result = run(["experiments/paper.py", "--out", out, "--scene_text", SHORT,
                   "--finest_step_s", 1.25e-4])
     report = (out / "report.md").read_text()
     assert "| 1 |" in report and "| 6 |" in report and "## Sets and cases" in report
@@ -139,7 +139,7 @@ def test_accuracy_sweep_smoke(tmp_path):
     two steps and the explicit one at one: a row per run, scheme, step and outcome, the mirror
     residual between a_3 and b_3, a work-precision figure per outcome, the branches named."""
     out = tmp_path / "accuracy"
-    run(["experiments/accuracy_cost.py", "--out", out, "--scale_time", 0.033, "--runs",
+    run(["experiments/accuracy.py", "--out", out, "--scale_time", 0.033, "--runs",
          "a_3,b_3", "--fast_steps", "2e-3,1e-3", "--explicit_runs", "a_3", "--explicit_steps",
          "6e-6", "--runs_dir", tmp_path / "runs"])
     header = (out / "accuracy_cost.csv").read_text().splitlines()[0].split(",")

@@ -13,10 +13,11 @@ from pathlib import Path
 
 import pytest
 
-from drake_car import cli
-from drake_car import run as run_command
+from drake_car.commands import cli
+from drake_car.commands import run as run_command
 from drake_car.results.folder import OutputError
-from drake_car.sweep import __main__ as sweep_command
+from drake_car.commands import sweep as sweep_command
+from drake_car.sweep import scene_grid
 from drake_car.sweep.store import load_run
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -76,7 +77,7 @@ CASES = [
      "'x_m' is a list of 100001 items; lists (a !SampledProfile's samples) are limited to "
      "100000 (about 20 s and 0.2 GB"),
     ("a --grid product over its limit", sweep_command.main,
-     lambda t: ["--scenes", "scenes/paper_study.yaml:a_1"] + [
+     lambda t: ["--scene", "scenes/paper_study.yaml:a_1"] + [
          f"--grid={key}=" + ",".join(f"{base + k * step:g}" for k in range(30))
          for key, base, step in (("friction.law.mu_s", 0.3, 0.001), ("friction.law.mu_d", 0.1,
                                  0.001), ("car.front.strut_damping_Nspm", 100, 10))],
@@ -94,7 +95,7 @@ CASES = [
      lambda t: A_1 + ["--scene_text", "car: {front: {ball_joint_offset_b_m: 0.5949}}"],
      "car.front.ball_joint_offset_b_m = 0.5949 must lie in [0, 0.205) m"),
     ("sweep: missing .tir found before any run", sweep_command.main,
-     lambda t: ["--scenes", "scenes/paper_study.yaml:a_1", "--scene_text",
+     lambda t: ["--scene", "scenes/paper_study.yaml:a_1", "--scene_text",
                 f"tyres: !MagicFormula {{tir_file: {t / 'nowhere.tir'}}}"],
      "nowhere.tir: tyre property file not found"),
 ]
@@ -130,7 +131,7 @@ def test_an_alias_bomb_is_refused_in_bounded_memory(tmp_path):
 
     def limit():
         resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))
-    done = subprocess.run([sys.executable, "-m", "drake_car.run", "--scene", f"{bomb}:scene",
+    done = subprocess.run([sys.executable, "-m", "drake_car.commands.run", "--scene", f"{bomb}:scene",
                            "--out", str(tmp_path / "out")], cwd=ROOT, capture_output=True,
                           text=True, timeout=120, preexec_fn=limit)
     assert done.returncode == 2, done.stderr[-800:]
@@ -165,7 +166,7 @@ def test_a_planted_pickle_is_never_loaded(tmp_path, capsys):
     with pytest.raises(OutputError, match=r"run\.pkl: a pickle in a results folder"):
         load_run(out, folder.name)
     with pytest.raises(SystemExit) as stopped:
-        cli.run_main(sweep_command.main, ["--scenes", str(ROOT / "scenes/paper_study.yaml:a_1"),
+        cli.run_main(sweep_command.main, ["--scene", str(ROOT / "scenes/paper_study.yaml:a_1"),
                                           "--out", str(out)])
     assert stopped.value.code == 2
     assert f"{folder / 'run.pkl'}: a pickle" in capsys.readouterr().err
@@ -185,7 +186,7 @@ def test_damaged_sweep_bookkeeping_is_named_and_kept(damage, named, tmp_path, ca
     damage(out)
     before = {p: (p.stat().st_mtime_ns, p.is_dir()) for p in out.rglob("*")}
     with pytest.raises(SystemExit) as stopped:
-        cli.run_main(sweep_command.main, ["--scenes", str(ROOT / "scenes/paper_study.yaml:a_1"),
+        cli.run_main(sweep_command.main, ["--scene", str(ROOT / "scenes/paper_study.yaml:a_1"),
                                           "--out", str(out)])
     err = capsys.readouterr().err
     assert stopped.value.code == 2 and named in err and "Traceback" not in err, err[-500:]
@@ -240,7 +241,7 @@ def test_a_scheduler_that_is_not_one_is_refused(address, reason, request, tmp_pa
                    address, lambda: address)()
     out = tmp_path / "sweep"
     with pytest.raises(SystemExit) as stopped:
-        cli.run_main(sweep_command.main, ["--scenes", str(ROOT / "scenes/paper_study.yaml:a_1"),
+        cli.run_main(sweep_command.main, ["--scene", str(ROOT / "scenes/paper_study.yaml:a_1"),
                                           "--scene_text", "simulator: {end_time_s: 0.05}",
                                           "--scheduler", address, "--out", str(out), "--quiet"])
     err = capsys.readouterr().err
@@ -260,8 +261,8 @@ def test_an_interrupt_stops_a_run_between_monitor_chunks(signum, raised):
 
     from conftest import paper_scene
     from drake_car.results.folder import terminate_as_exit
-    from drake_car.sim.simulate import Runner
-    runner = Runner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
+    from drake_car.sim.simulate import SceneRunner
+    runner = SceneRunner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
     runner.start()
     timer = threading.Timer(1.0, os.kill, (os.getpid(), getattr(signal, signum)))
     timer.start()
@@ -350,12 +351,12 @@ def test_a_sweep_inside_a_folder_another_run_replaces_is_refused(tmp_path, capsy
                                                                  monkeypatch):
     """The sweep command's --out too: a sweep folder inside a folder another run writes (and
     will replace whole) is refused before any work, naming that folder."""
-    from drake_car.sweep import __main__ as sweep_command
+    from drake_car.commands import sweep as sweep_command
     monkeypatch.chdir(ROOT)
     outer = tmp_path / "A"
     pid = held_lock(tmp_path / ".A.lock")
     with pytest.raises(SystemExit) as stopped:
-        cli.run_main(sweep_command.main, ["--scenes", "scenes/paper_study.yaml:a_1", "--out",
+        cli.run_main(sweep_command.main, ["--scene", "scenes/paper_study.yaml:a_1", "--out",
                                           str(outer / "sweep"), "--quiet"])
     err = capsys.readouterr().err
     assert stopped.value.code == 2, err[-800:]
@@ -414,14 +415,14 @@ def test_a_large_grid_is_announced_and_goes_on_when_asked(monkeypatch, capsys):
     """Past the announcement threshold: the estimate on stderr, then the scenes; past the limit
     with ``large``: the same (the limits lowered here to keep the test small)."""
     monkeypatch.chdir(ROOT)
-    monkeypatch.setattr(sweep_command, "GRID_ANNOUNCE_SCENES", 2)
-    monkeypatch.setattr(sweep_command, "GRID_MAX_SCENES", 3)
+    monkeypatch.setattr(scene_grid, "GRID_ANNOUNCE_SCENES", 2)
+    monkeypatch.setattr(scene_grid, "GRID_MAX_SCENES", 3)
     grid = [("friction.law.mu_s", ["0.3", "0.4"]), ("friction.law.mu_d", ["0.1", "0.2"])]
     with pytest.raises(Exception, match=r"--grid: 4 scenes \(2 x 2\): about .* over the limit "
                                         r"of 3 scenes; give fewer values, or --large to go on"):
-        sweep_command.build_scenes("scenes/paper_study.yaml:a_1", "", grid)
-    assert len(sweep_command.build_scenes("scenes/paper_study.yaml:a_1", "", grid,
-                                          large=True)) == 4
+        scene_grid.build_scenes("scenes/paper_study.yaml:a_1", "", grid)
+    assert len(scene_grid.build_scenes("scenes/paper_study.yaml:a_1", "", grid,
+                                   large=True)) == 4
     assert "--grid: 4 scenes (2 x 2): about" in capsys.readouterr().err
 
 

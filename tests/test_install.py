@@ -31,7 +31,7 @@ def test_a_wheel_installs_and_runs_from_any_folder(tmp_path):
     assert int(count) >= 10
     scene = target / "drake_car" / "data" / "scenes" / "paper_study.yaml"
     run = subprocess.run(
-        [sys.executable, "-m", "drake_car.run", "--scene", f"{scene}:a_3", "--scene_text",
+        [sys.executable, "-m", "drake_car.commands.run", "--scene", f"{scene}:a_3", "--scene_text",
          "simulator: {end_time_s: 0.1}", "--out", str(elsewhere / "out"), "--quiet"],
         cwd=elsewhere, env=env, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
@@ -48,8 +48,6 @@ def test_every_console_script_names_a_command_with_help():
     commands = {f"drake_car.commands.{p.stem}:console"
                 for p in (ROOT / "drake_car" / "commands").glob("*.py")
                 if "def console(" in p.read_text()}
-    commands |= {"drake_car.run:console", "drake_car.sweep.__main__:console",
-                 "drake_car.tyre.__main__:console"}
     assert commands == set(scripts.values()), commands ^ set(scripts.values())
     readme = (ROOT / "README.md").read_text()
     assert all(f"`{name}`" in readme for name in scripts), [

@@ -25,8 +25,8 @@ import pytest
 from distributed import Client
 
 from conftest import PAPER_SCENES, paper_scene
-from drake_car import cli
-from drake_car.sweep import __main__ as sweep_command
+from drake_car.commands import cli
+from drake_car.commands import sweep as sweep_command
 from drake_car.results.record import RUN_FILES, checksums, read_run
 from drake_car.results.files import write_csv
 from drake_car.sim.simulate import simulate
@@ -139,7 +139,7 @@ def test_a_killed_worker_loses_nothing_and_runs_equal_the_serial_ones(tmp_path):
 @pytest.mark.slow
 def test_the_command_restarts_with_only_the_missing_runs_on_loopback(tmp_path, monkeypatch):
     out = tmp_path / "sweep"
-    argv = ["--scenes", f"{PAPER_SCENES}:a_3", "--out", str(out), "--scene_text", SHORT,
+    argv = ["--scene", f"{PAPER_SCENES}:a_3", "--out", str(out), "--scene_text", SHORT,
             "--grid", "friction.law.mu_s=0.4,0.5,0.6", "--workers", "2", "--quiet"]
     me = psutil.Process()
     before = set(listening([me]))  # earlier tests in this process may still listen
@@ -309,7 +309,7 @@ def _locked(tmp_path):
     return busy
 
 
-A_3 = ["--scenes", f"{PAPER_SCENES}:a_3"]
+A_3 = ["--scene", f"{PAPER_SCENES}:a_3"]
 # (label, argv, what the message names, the --out (None: tmp_path / "out"))
 BAD = [
     ("unknown grid key", A_3 + ["--grid", "frictoin.law.mu_s=0.1"], "frictoin", None),
@@ -326,8 +326,8 @@ BAD = [
      "simulator.end_time_s", None),
     ("live view", A_3 + ["--scene_text", "visualization: !MeshcatLive {}"], "MeshcatLive",
      None),
-    ("no such entry", ["--scenes", f"{PAPER_SCENES}:c_9"], "c_9", None),
-    ("no scenes file", ["--scenes", "no/such.yaml"], "no/such.yaml", None),
+    ("no such entry", ["--scene", f"{PAPER_SCENES}:c_9"], "c_9", None),
+    ("no scenes file", ["--scene", "no/such.yaml"], "no/such.yaml", None),
     ("no workers", A_3 + ["--workers", "0"], "--workers", None),
     ("workers and scheduler", A_3 + ["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"],
      "--workers", None),

@@ -123,7 +123,7 @@ def test_unsupported_formats_are_refused_by_name(tmp_path, text, match):
 
 
 def test_tyre_command_writes_curves_figures_and_summary(tmp_path):
-    from drake_car.tyre.__main__ import main
+    from drake_car.commands.tyre import main
     out = tmp_path / "sedan"
     main(["--tir", str(DATA / "Sedan_Pac02Tire.tir"), "--out", str(out)])
     rows = list(csv.DictReader((out / "curves.csv").open()))
@@ -198,7 +198,7 @@ def test_relaxation_lengths_from_the_file_reach_the_tyre_system():
 
 def test_tyre_command_reports_mf6_relaxation_lengths(tmp_path):
     from drake_car.law.tyre.magic_formula import relaxation_lengths_m
-    from drake_car.tyre.__main__ import main
+    from drake_car.commands.tyre import main
     main(["--tir", str(DATA / "MagicFormula61_Parameters.tir"), "--out", str(tmp_path / "t")])
     summary = (tmp_path / "t" / "summary.txt").read_text()
     sigma = relaxation_lengths_m(MagicFormulaTyre.from_file(

@@ -1,4 +1,4 @@
-"""The commands a user runs, each also installed as a console script (``pyproject.toml``):
-``drake-car-paper`` (the paper's study), ``drake-car-design`` (the design study),
-``drake-car-handling`` (the ISO handling tests), ... The scripts in ``experiments/`` call
-them, so ``python experiments/NAME.py`` works from a checkout too."""
+"""The commands a user runs, one module per job (``drake_car/commands/JOB.py``), each installed as
+the console script ``drake-car-JOB`` (underscores as hyphens) and callable from a checkout as
+``python experiments/JOB.py``; ``cli.py`` holds what they share: the options, logging and the
+one error path."""

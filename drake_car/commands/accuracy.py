@@ -24,8 +24,8 @@ accuracy_cost_<outcome>.png (work-precision: |error| against CPU seconds per run
 DIR/branches.txt (where the fast steps disagree on the lasting split: which branch the explicit
 scheme takes), DIR/accuracy_cost.json (provenance).
 
-  python experiments/accuracy_cost.py --out results/accuracy_cost
-  python experiments/accuracy_cost.py --out results/accuracy_cost --explicit_runs a_3,b_3
+  drake-car-accuracy --out results/accuracy_cost
+  drake-car-accuracy --out results/accuracy_cost --explicit_runs a_3,b_3
 """
 
 import dataclasses
@@ -39,13 +39,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from pydrake.multibody.plant import MultibodyPlantConfig  # noqa: E402
 
-from drake_car import cli  # noqa: E402
+from drake_car.commands import cli  # noqa: E402
 from drake_car.data import resource  # noqa: E402
 from drake_car.results.files import write_csv, write_json  # noqa: E402
 from drake_car.results.folder import output_folder  # noqa: E402
 from drake_car.results.provenance import provenance  # noqa: E402
 from drake_car.scene.load import load_scene  # noqa: E402
-from drake_car.sim.build import check_stability  # noqa: E402
+from drake_car.law.errors import InputError  # noqa: E402
+from drake_car.scene.limits import check_limits  # noqa: E402
 from drake_car.study.paper.claims import place_values, study_columns  # noqa: E402
 from drake_car.sweep.runner import run_scenes  # noqa: E402
 
@@ -124,18 +125,17 @@ def steps_of(p, text, name):
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, name="accuracy", scene=True, scene_default=str(PAPER_STUDY),
+                   scene_help="the study's scenes file", cluster=True,
+                   scene_text="YAML laid over every run's scene")
     p.add_argument("--runs", default=",".join(RUNS), help="runs of the study's scenes file")
     p.add_argument("--fast_steps", default=",".join(f"{s:g}" for s in FAST_STEPS))
     p.add_argument("--explicit_steps", default=",".join(f"{s:g}" for s in EXPLICIT_STEPS),
                    help="steps of the explicit scheme (s); two, to show it converged")
     p.add_argument("--explicit_runs", default=",".join(RUNS),
                    help="the runs the explicit scheme runs for (it costs ~1e3 times the fast)")
-    p.add_argument("--scene", default=str(PAPER_STUDY))
-    p.add_argument("--scene_text", default="", help="YAML laid over every run's scene")
     p.add_argument("--scale_time", type=cli.positive("scale_time"), default=1.0,
                    help="shorten every phase of the timeline by this factor (quick checks)")
-    p.add_argument("--workers", type=cli.count, default=None)
     p.add_argument("--runs_dir", default="results/accuracy_cost_runs",
                    help="the sweeps' folders (<runs_dir>/fast, <runs_dir>/reference), kept "
                         "and reused by a rerun, outside --out: --out is written whole, the "
@@ -160,17 +160,21 @@ def main(argv=None):
             cases[(r, "fast", dt)] = case_scene(bases[r], "fast", dt)
         for dt in explicit if r in explicit_runs and bases[r].friction is not None else ():
             cases[(r, "reference", dt)] = case_scene(bases[r], "reference", dt)
-    for scene in cases.values():
-        check_stability(scene)  # refused before anything runs
+    for (run, scheme, dt), scene in cases.items():  # each case's step, before anything runs
+        try:
+            check_limits(scene)
+        except InputError as e:
+            option = "--explicit_steps" if scheme == "reference" else "--fast_steps"
+            raise InputError(f"{option}: {dt:g} s for {run}: {e}") from None
     runs_dir = Path(args.runs_dir)
     results = {}
-    for scheme in ("reference", "fast"):  # the long runs first; each scheme its own sweep
-        if scheme not in args.schemes.split(","):
-            continue
-        chosen = {scene.name: scene for key, scene in cases.items() if key[1] == scheme}
-        if chosen:
-            results.update(run_scenes(chosen, out_dir=runs_dir / scheme,
-                                      workers=args.workers))
+    with cli.cluster_client(args, len(cases)) as client:
+        for scheme in ("reference", "fast"):  # the long runs first; each its own sweep
+            if scheme not in args.schemes.split(","):
+                continue
+            chosen = {scene.name: scene for key, scene in cases.items() if key[1] == scheme}
+            if chosen:
+                results.update(run_scenes(chosen, out_dir=runs_dir / scheme, client=client))
     if args.schemes != "fast,reference":
         print(f"ran {len(results)} runs into {runs_dir}; the analysis needs both schemes")
         return

@@ -15,17 +15,17 @@ DIR/sweep/ (a rerun reuses every finished run):
 Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/: table.csv
 (one row per run), the maps, lines.png, sobol.png, monte_carlo.png and summary.json.
 
-  python experiments/design_study.py --out results/design          (80 min on this 2-core
+  drake-car-design --out results/design          (80 min on this 2-core
       machine beside other work: 39 for its runs, 37 converging its jam cases)
-  python experiments/design_study.py --out /tmp/design --quick     (a smoke run, ~2 min)
-  python experiments/design_study.py --out results/design_sedan \
+  drake-car-design --out /tmp/design --quick     (a smoke run, ~2 min)
+  drake-car-design --out results/design_sedan \
       --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
 """
 
 import os
 import time
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import parse_scene_option
 from drake_car.results.files import write_csv, write_json
@@ -36,21 +36,18 @@ from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as runs_of
 from drake_car.study.design import tables as design_tables
 from drake_car.study.design.spec import load_study
-from drake_car.sweep.runner import cores, dask_client, run_scenes, run_sweep
+from drake_car.sweep.runner import run_scenes, run_sweep
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, out_help=(
+    p = cli.parser(__doc__, name="design", cluster=True, out_help=(
         "the study's folder: its sweep's runs are added as they finish and "
-        "reused by the same command again; the study's results are rewritten"))
+        "reused by the same command again; the study's results are rewritten"),
+        scene_text="YAML laid over the study's base scene, so over every run (e.g. another "
+                   "tyre: \"{tyres: !MagicFormula {tir_file: FILE}}\")")
     p.add_argument("--study", default=f"{resource('scenes/studies/design.yaml')}:study",
                    help="the study's spec, FILE:ENTRY (default: %(default)s)")
-    p.add_argument("--scene_text", default="",
-                   help="YAML laid over the study's base scene, so over every run (e.g. "
-                   "another tyre: \"{tyres: !MagicFormula {tir_file: FILE}}\")")
     p.add_argument("--quick", action="store_true", help="a smoke run of every part")
-    p.add_argument("--scheduler", default=None, help="a Dask scheduler's address")
-    p.add_argument("--workers", type=cli.count, default=None, help="local workers (default: cores)")
     p.add_argument("--rerun_failed", action="store_true",
                    help="run the failed runs again (a rerun reuses them otherwise)")
     p.add_argument("--no_verify", action="store_true",
@@ -73,7 +70,7 @@ def main(argv=None):
     named |= parts["noise"]
     sweep_dir = args.out / "sweep"
     jam = {} if args.no_verify else jam_cases.jam_scenes(study, parts)
-    with dask_client(args.scheduler, min(args.workers or cores(), len(named))) as client:
+    with cli.cluster_client(args, len(named)) as client:
         sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, sweep_dir,
                           client=client, rerun_failed=args.rerun_failed)
         refined = None

@@ -6,11 +6,13 @@ switched off after force_off_s; a spring of spring_Npm from the block to a fixed
 Writes DIR/history.csv (t, x_m, v_mps [relative to the belt], creep_m, mu, phase [0 static,
 1 kinetic], friction_N [on the block]) and DIR/history.png.
 
-The rig runs under the divergence monitor, and the explicit (reference) scheme refuses a step
-above its stability limit before it runs.
+The rig runs on the one runner, as a car's scene does: under the divergence monitor, with a
+progress bar (not with --quiet), Ctrl-C/SIGTERM taken between the monitor's chunks; DIR/rig.json
+holds the options, the law, how the run went (wall and CPU time, steps) and its provenance. The
+explicit (reference) scheme refuses a step above its stability limit before it runs.
 
 Example (break-away under a slow ramp):
-  python experiments/friction_rig.py --out results/rig --force_rate_Nps 1000 --duration_s 1
+  drake-car-friction-rig --out results/rig --force_rate_Nps 1000 --duration_s 1
 """
 
 import dataclasses
@@ -21,16 +23,17 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from drake_car import cli  # noqa: E402
-from drake_car.scene.load import SceneError, load_scene  # noqa: E402
+from drake_car.commands import cli  # noqa: E402
+from drake_car.scene.load import load_section  # noqa: E402
+from drake_car.scene.scene import Friction  # noqa: E402
 from drake_car.results.files import write_csv, write_json  # noqa: E402
 from drake_car.results.folder import output_folder  # noqa: E402
 from drake_car.results.provenance import provenance  # noqa: E402
-from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
+from drake_car.sim.rigs.friction import RigOptions, run_rig  # noqa: E402
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
+    p = cli.parser(__doc__, name="friction_rig")
     P, N, Z = cli.positive, cli.nonnegative, cli.number
     p.add_argument("--mass_kg", type=P("mass_kg"), default=30.0)
     p.add_argument("--normal_force_N", type=N("normal_force_N"), default=3000.0)
@@ -52,9 +55,7 @@ def main(argv=None):
                         "\"{scheme: reference, law: {mu_s: 0.4, mu_d: 0.3}}\"")
     args = p.parse_args(argv)
     cli.check_out(args)
-    friction = load_scene(scene_text=f"friction: {args.friction}").friction
-    if friction is None:
-        raise SceneError(f"--friction {args.friction!r}: the rig needs a friction law")
+    friction = load_section(Friction, "friction", args.friction, f"--friction {args.friction!r}")
     if args.time_step_s > args.duration_s:
         p.error("--time_step_s must not exceed --duration_s")
     options = RigOptions(
@@ -65,14 +66,16 @@ def main(argv=None):
         v0_mps=args.v0_mps, time_step_s=args.time_step_s, scheme=friction.scheme)
     options.check(friction.law)
     with output_folder(args.out) as out:
-        history = simulate_rig(options, friction.law, duration_s=args.duration_s)
+        run = run_rig(options, friction.law, duration_s=args.duration_s,
+                      progress=not args.quiet)
+        history = run.history
         write_csv(out / "history.csv", history)
         write_json(out / "rig.json", provenance(
             options=dataclasses.asdict(options), law=dataclasses.asdict(friction.law),
-            duration_s=args.duration_s))
+            duration_s=args.duration_s, run=run.record()))
         plot(history, out / "history.png", options, friction.law)
     print(f"final x = {history['x_m'][-1]:.6g} m, v = {history['v_mps'][-1]:.3g} m/s; "
-          f"wrote {args.out}/history.csv")
+          f"{run.wall_s:.1f} s wall, {run.cpu_s:.1f} s CPU; wrote {args.out}/history.csv")
 
 
 def plot(h, path, options, law):

@@ -13,7 +13,7 @@ continuous ramp steer at 60 km/h; step_steer: ISO 7401 step steer at 60 km/h). W
                   road-wheel steer at our speed: ramp.csv, step.csv, crosscheck.json,
                   crosscheck_ramp.png, crosscheck_step.png
   steering.csv    the rack-to-road-wheel relation (chassis fixed) the understeer gradient uses
-  tyre/           the tyre the car runs on, as python -m drake_car.tyre writes it (curves.csv,
+  tyre/           the tyre the car runs on, as drake-car-tyre writes it (curves.csv,
                   summary.txt, its figures); the report's tyre section
   shipped_tyre/   on a tyre other than the shipped one: both tests again on the shipped tyre
                   (their runs); the report's table says what changed (understeer, yaw gain, ...)
@@ -25,17 +25,17 @@ linear range the gradients are fitted over. The cross-check needs the test extra
 commonroad-vehicle-models; without it (or with --no_crosscheck) it is left out and the report
 says so.
 
-Example:  python experiments/handling.py --out results/handling
-          python experiments/handling.py --out results/handling_locked \\
+Example:  drake-car-handling --out results/handling
+          drake-car-handling --out results/handling_locked \\
               --scene_text "drive: !PrescribedRotation {}"
-          python experiments/handling.py --out results/handling_sedan --scene_text \\
+          drake-car-handling --out results/handling_sedan --scene_text \\
               "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
 """
 
 import argparse
 import time
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.results.files import write_json, write_text
 from drake_car.results.folder import output_folder
@@ -45,7 +45,6 @@ from drake_car.study.handling.analysis import check_scenes, crosscheck_left_out,
 from drake_car.study.handling.measures import DEFAULT_AY_RANGE, HandlingError
 from drake_car.study.handling.outputs import summary, write_outputs
 from drake_car.study.handling.report import report
-from drake_car.study.paper.claims import StudyError
 
 HANDLING = resource("scenes/handling.yaml")
 
@@ -63,10 +62,8 @@ def ay_range(text):
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
-    p.add_argument("--scene", default=str(HANDLING),
-                   help="the handling scenes file (default: %(default)s)")
-    p.add_argument("--scene_text", default="", help="YAML laid over both scenes")
+    p = cli.parser(__doc__, name="handling", scene=True, scene_default=str(HANDLING),
+                   scene_help="the handling scenes file", scene_text="YAML laid over both scenes")
     p.add_argument("--ay_range", type=ay_range, default=DEFAULT_AY_RANGE,
                    help="LO,HI: the linear range of a_y (m/s²) the gradients are fitted over "
                         "(default: 0.5,3.0)")
@@ -88,7 +85,7 @@ def main(argv=None):
                 shipped_why=("left out (--no_shipped_comparison)"
                              if args.no_shipped_comparison else None))
         except HandlingError as e:
-            raise StudyError(f"{args.scene}: {e}") from None
+            raise HandlingError(f"{args.scene}: {e}") from None
         write_outputs(out, runs, result, scenes["steady_state"])
         result["wall_s"] = {"total": time.perf_counter() - began} | walls
         result["provenance"] = provenance()

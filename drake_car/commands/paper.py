@@ -28,7 +28,7 @@ six runs, their dt/2 and dt/4 repetitions and the six with the paper's drive. Op
 "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
 added to one run's scene (so its saved scene says so).
 
-Example:  python experiments/lane_change.py --out results
+Example:  drake-car-paper --out results/paper
 """
 
 import dataclasses
@@ -36,7 +36,7 @@ import time
 from pathlib import Path
 from resource import RUSAGE_CHILDREN, RUSAGE_SELF, getrusage
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene_file
 from drake_car.scene.scene import MeshcatReplay, NoVisualization, PrescribedRotation
@@ -52,17 +52,16 @@ from drake_car.study.paper.outcomes import (
     write_outcomes)
 from drake_car.study.paper.report import report, summary
 from drake_car.sweep.refine import halved, refine
-from drake_car.sweep.runner import cores, dask_client, run_scenes
+from drake_car.sweep.runner import run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
 PAPER_DRIVE = " paper's drive"  # the run with the paper's drive, among the sweep's names
 
 
 def main(argv=None):
-    p = cli.parser(__doc__)
-    p.add_argument("--scene", default=str(PAPER_STUDY),
-                   help="the study's scenes file (default: %(default)s)")
-    p.add_argument("--scene_text", default="", help="YAML laid over every run's scene")
+    p = cli.parser(__doc__, name="paper", scene=True, scene_default=str(PAPER_STUDY),
+                   scene_help="the study's scenes file", cluster=True,
+                   scene_text="YAML laid over every run's scene")
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: every run at its scene's step only, no "
                         "numerical error estimated")
@@ -79,10 +78,6 @@ def main(argv=None):
     p.add_argument("--no_paper_drive", action="store_true",
                    help="skip the comparison with the paper's own drive (both front wheels' "
                         "rotation prescribed: a locked front axle)")
-    p.add_argument("--scheduler", default=None,
-                   help="a Dask scheduler's address (default: a local cluster)")
-    p.add_argument("--workers", type=cli.count, default=None,
-                   help="local workers (default: one per core)")
     args = p.parse_args(argv)
     cli.check_out(args)
     scenes = load_scene_file(args.scene, args.scene_text or None)
@@ -102,7 +97,7 @@ def main(argv=None):
                                                     visualization=NoVisualization())
             for name, s in scenes.items()}
         count = len(scenes) * (1 if args.no_verify else 3) + len(locked)
-        with dask_client(args.scheduler, min(args.workers or cores(), count)) as client:
+        with cli.cluster_client(args, count) as client:
             def simulate(batch):
                 return run_scenes(batch, client=client, out_dir=args.runs_dir)
             if args.no_verify:

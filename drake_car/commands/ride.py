@@ -11,15 +11,15 @@ analysis uses every finished run of the chosen cells. Writes into DIR:
   psd_<class>_<speed>_<strut>.png   the seat point's acceleration spectrum, with and without
                           friction
   report.md               what a given μs costs in comfort and road holding
-  runs/, index.csv, sweep.json   the sweep's runs (python -m drake_car.sweep's layout)
+  runs/, index.csv, sweep.json   the sweep's runs (drake-car-sweep's layout)
 
-  python experiments/ride.py --out DIR [--classes B,C] [--speeds 60] [--strut damper]
+  drake-car-ride --out DIR [--classes B,C] [--speeds 60] [--strut damper]
 """
 
 import dataclasses
 import time
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.law.checks import ParameterError
 from drake_car.results.files import read_csv
 from drake_car.study.ride.analysis import collect
@@ -49,7 +49,7 @@ def _list(text, kind, name):
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, out_help=(
+    p = cli.parser(__doc__, name="ride", cluster=True, out_help=(
         "the study's sweep folder: its runs are added to it as they finish and "
         "reused by the same command again (never replaced)"))
     p.add_argument("--classes", default="A,B,C", help="ISO 8608 road classes (default: A,B,C)")
@@ -57,8 +57,6 @@ def main(argv=None):
     p.add_argument("--strut", default="damper",
                    help="damper (the car's damper plus dry friction), paper (dry friction "
                         "alone, as the paper's strut) or both (default: damper)")
-    p.add_argument("--workers", type=cli.count, default=None,
-                   help="local workers (default: one per core)")
     p.add_argument("--no_run", action="store_true", help="analyse the finished runs only")
     args = p.parse_args(argv)
     classes = _list(args.classes, str, "--classes")
@@ -73,7 +71,8 @@ def main(argv=None):
     check_sweep_folder(args.out)
     began = time.perf_counter()
     if not args.no_run:
-        result = run_sweep(scenes, args.out, workers=args.workers, progress=not args.quiet)
+        with cli.cluster_client(args, len(scenes)) as client:
+            result = run_sweep(scenes, args.out, client=client, progress=not args.quiet)
         print(f"sweep: {result['ok']} ok, {result['failed']} failed, {result['reused']} "
               f"reused, {result['wall_s']:.0f} s")
     runs = finished_runs(args.out, scenes)

@@ -7,9 +7,10 @@ up naming the whole key path: ``friction.law.mu_d = 0.5 must be <= mu_s = 0.4``.
 """
 
 import math
+from drake_car.law.errors import InputError
 
 
-class ParameterError(ValueError):
+class ParameterError(InputError):
     """A parameter is out of its allowed range; ``key`` names it (a dotted path)."""
 
     def __init__(self, key, value, requirement):

@@ -116,8 +116,9 @@ def _compute_spring_settings(params, source):
 
 def add_car(plant, params: CarParameters | None = None, *, model_path=None,
             fixed_chassis=False) -> CarModel:
-    """Adds the car to a discrete ``plant`` (not yet finalized) and returns its handles."""
-    params = (params or CarParameters()).check()
+    """Adds the car to a discrete ``plant`` (not yet finalized) and returns its handles.
+    ``params`` are trusted: checked where they entered (a scene's load)."""
+    params = params or CarParameters()
     source = model_source(params, model_path)
     instance = load_car(plant, source, fixed_chassis=fixed_chassis)
     springs = spring_settings(params, source)

@@ -13,9 +13,10 @@ from pydrake.multibody.plant import MultibodyPlant
 
 from drake_car.model.geometry import SIDES
 from drake_car.model.loading import ModelFileError, ModelSource, load_car
+from drake_car.law.errors import InputError
 
 
-class KinematicsError(RuntimeError):
+class KinematicsError(InputError):
     """The loops of a corner cannot be closed (geometry out of reach)."""
 
 

@@ -23,7 +23,7 @@ class KinematicsSweep:
 def run_kinematics_sweep(params: CarParameters | None = None, *, travel_m=0.08, points=33,
                          model_path=None) -> KinematicsSweep:
     """Each front wheel through ±travel_m (bump positive), then the rack through its stroke."""
-    params = (params or CarParameters()).check()
+    params = params or CarParameters()  # checked where it entered (a scene's load)
     if not travel_m > 0 or points < 3:
         raise ValueError(f"travel_m = {travel_m} must be > 0 and points = {points} >= 3")
     kin = SuspensionKinematics(model_source(params, model_path), params.front.guide_length_l_m)

@@ -1,6 +1,7 @@
 """Loads the car's model file into a MultibodyPlant, with clear errors for bad files."""
 
 import dataclasses
+import functools
 from pathlib import Path
 
 from pydrake.math import RigidTransform
@@ -8,6 +9,8 @@ from pydrake.multibody.parsing import Parser
 
 from drake_car.data import resource
 from drake_car.model.geometry import SIDES
+from drake_car.law.errors import InputError
+from drake_car.law.tyre.magic_formula import MagicFormulaTyre
 
 # Bodies and joints every car model file must declare (the code addresses them by name).
 REQUIRED_BODIES = ["chassis", "steering_rack"] + [
@@ -21,7 +24,7 @@ REQUIRED_FRAMES = [
         "rear_spring_lower_seat", "tie_rod_outer", "tie_rod_end")]
 
 
-class ModelFileError(RuntimeError):
+class ModelFileError(InputError):
     """A model file is missing, malformed, or lacks a part the car needs; names the file."""
 
 
@@ -72,6 +75,23 @@ def frame_point(plant, name, instance):
     """(body, position of the frame's origin in the body frame) of a named fixed frame."""
     frame = plant.GetFrameByName(name, instance)
     return frame.body(), frame.GetFixedPoseInBodyFrame().translation()
+
+
+def read_tyre(name):
+    """The Magic Formula tyre of property file ``name`` (``tir_path``), read once per process
+    for each version of the file (its path, size and modification time)."""
+    path = tir_path(name)
+    try:
+        stat = path.stat()
+        version = (stat.st_size, stat.st_mtime_ns)
+    except OSError:
+        version = None  # the reader names the missing file
+    return _read_tyre(str(path), version)
+
+
+@functools.lru_cache(maxsize=32)
+def _read_tyre(path, version):
+    return MagicFormulaTyre.from_file(Path(path))
 
 
 def tir_path(name):

@@ -104,8 +104,8 @@ def _frame(name, link, point):
 
 
 def generate_sdformat(params: CarParameters) -> str:
-    """Returns the SDFormat text of the car for ``params`` (validated first)."""
-    params.check()
+    """Returns the SDFormat text of the car for ``params`` (checked where they entered: a
+    scene's load)."""
     m = params.mass
     radius = params.tyre.unloaded_radius_m
     chassis_mass, chassis_com = chassis_mass_and_com(params)

@@ -1,19 +1,20 @@
 """The Diagram's pictures: Drake's Graphviz drawing as SVG (``write_diagram_svg``) and a
 readable overview of it (``diagram_overview_dot``)."""
 
+import errno
 import shutil
 import subprocess
 from pathlib import Path
-
-from drake_car.results.errors import OutputError
 
 
 def write_diagram_svg(dot_text, path):
     """Draws Graphviz ``dot_text`` as SVG (and keeps the .dot beside it)."""
     dot = shutil.which("dot")
     if dot is None:
-        raise OutputError("Graphviz's 'dot' is not installed; run tools/setup.sh (or install "
-                          "the 'graphviz' package) to draw the diagram")
+        # The machine lacks a program: an OS error, one line through the commands' error path.
+        raise FileNotFoundError(errno.ENOENT, "Graphviz's program is not installed; run "
+                                "tools/setup.sh (or install the 'graphviz' package) to draw "
+                                "the diagram", "dot")
     svg = subprocess.run([dot, "-Tsvg"], input=dot_text, capture_output=True, text=True,
                          check=True, timeout=120).stdout
     Path(path).write_text(svg)

@@ -17,10 +17,15 @@ import uuid
 from pathlib import Path
 
 from drake_car.law.checks import excerpt
+from drake_car.law.errors import InputError
 from drake_car.results.columns import folder_readme
-from drake_car.results.errors import OutputError  # noqa: F401 - the room's error, here too
 from drake_car.results.files import write_text
 from drake_car.results.lock import LockHeld, exclusive, holder
+
+
+class OutputError(InputError):
+    """The output folder cannot be used; the message names it and why."""
+
 
 MARKER = ".drake_car_output"  # in every folder this module wrote
 

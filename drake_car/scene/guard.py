@@ -13,6 +13,7 @@ import yaml
 
 from drake_car.law.checks import excerpt
 from drake_car.law.road.profiles import MAX_ROAD_SAMPLES, ROAD_SAMPLE_BYTES, ROAD_SAMPLE_S
+from drake_car.law.errors import InputError
 
 # A scene file or --scene_text: the shipped scene files are a few kB; a !SampledProfile road
 # of MAX_ROAD_SAMPLES points (law.road.profiles; a longer list is refused here, before Drake's
@@ -24,7 +25,7 @@ MAX_EXPANDED_NODES = 1_000_000
 PLAIN_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+=-]{0,99}$")
 
 
-class YamlInputError(ValueError):
+class YamlInputError(InputError):
     """YAML refused before parsing; the message names where and why."""
 
 

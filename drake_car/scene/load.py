@@ -10,33 +10,27 @@ the key path, the value and what is allowed, as one line (``SceneError``).
 
 import dataclasses
 import hashlib
-import math
 import typing
 from pathlib import Path
 
 from pydrake.common.yaml import yaml_dump_typed, yaml_load, yaml_load_typed
-from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.data import resource
 from drake_car.law.checks import ParameterError, checked, excerpt, one_line
+from drake_car.scene.limits import check_limits, check_plant
 from drake_car.scene.guard import (
     PLAIN_NAME, YamlInputError, announce_large_road, check_entry_name, check_yaml,
     read_yaml_file)
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
-from drake_car.scene.scene import HandsOff, Scene, default_plant_config
+from drake_car.scene.scene import HandsOff, Scene
 from drake_car.scene.vertical import resolve_vertical
+from drake_car.law.errors import InputError
 
 # Every channel group a scene can log.
 CHANNEL_GROUPS = ("chassis", "steering", "struts", "tyres", "friction", "energy", "top_mounts",
                   "ride")
 # Groups logged only when a scene lists them (not in the default "all it has").
 OPT_IN_CHANNELS = ("ride",)
-# Plant-config fields that have no effect on this car (it has no collision geometry): they
-# must keep their defaults, so that every value of a scene changes its run.
-INERT_PLANT_FIELDS = ("penetration_allowance", "stiction_tolerance", "contact_model",
-                      "contact_surface_representation", "adjacent_bodies_collision_filters")
-# The largest step: the tyres' explicit coupling needs less (their own check gives the limit).
-MAX_TIME_STEP_S = 0.01
 # A run's size: at ~0.5 ms of wall time per step (the paper's hardest run at 1 ms on this
 # project's 2-core machine, benchmarks/step_cost.py), 5e6 steps are about 40 minutes.
 WALL_PER_STEP_S = 5e-4
@@ -51,7 +45,7 @@ def _duration(seconds):
     return f"{seconds / 3600:.1f} h"
 
 
-class SceneError(ValueError):
+class SceneError(InputError):
     """A scene is malformed or asks for something impossible; the message names where, the key
     path, the value and what is allowed."""
 
@@ -104,6 +98,12 @@ def load_scene_file(path, scene_text=None):
 
 def load_scene_text(text, where):
     """The scene of a scene file's text holding one entry (``dump_scene_file``'s), checked."""
+    return check_scene(parse_scene_text(text, where), where)
+
+
+def parse_scene_text(text, where):
+    """The scene of a scene file's text holding one entry, not checked: for a text whose
+    checksum says it is what a checked scene was saved as (a sweep's run read back)."""
     _guarded(check_yaml, text, where)
     try:
         data = yaml_load(data=text)
@@ -113,7 +113,26 @@ def load_scene_text(text, where):
         raise SceneError(f"{where}: must hold one scene")
     (child,) = data
     _check_raw(data[child], Scene, where, "")
-    return check_scene(_typed(where, schema=Scene, data=text, child_name=child), where)
+    return _typed(where, schema=Scene, data=text, child_name=child)
+
+
+def load_section(schema, key, text, where):
+    """The section ``key`` of a scene (e.g. ``scene.Friction``, "friction") from its YAML
+    ``text``, checked by its own ``check()`` alone: for a rig that takes a scene's section but
+    no car."""
+    _guarded(check_yaml, text, where)
+    try:
+        raw = yaml_load(data=f"value: {text}")["value"]
+    except Exception as e:
+        raise SceneError(f"{where}: not YAML: {one_line(e)}") from None
+    if raw is None:
+        text = "{}"
+    _check_raw({} if raw is None else raw, schema, where, key)
+    section = _typed(where, schema=schema, data=f"value: {text}", child_name="value")
+    try:
+        return checked(section, key)
+    except ParameterError as e:
+        raise SceneError(f"{where}: {e}") from None
 
 
 def parse_scene_option(text):
@@ -133,7 +152,7 @@ def dump_scene_file(scene: Scene) -> str:
     """A scene file holding ``scene`` as its one entry ("scene"): what a run saves beside its
     results; ``load_scene`` reads it back to the same scene."""
     body = "\n".join("  " + line if line else line for line in dump_scene(scene).splitlines())
-    return f"# The scene as it ran (drake_car). Rerun: python -m drake_car.run --scene THIS\n" \
+    return f"# The scene as it ran (drake_car). Rerun: drake-car-run --scene THIS\n" \
            f"scene:\n{body}\n"
 
 
@@ -166,16 +185,18 @@ def _check_own_name(raw, where):
 
 
 def check_scene(scene: Scene, where="scene") -> Scene:
-    """Every section's check and the cross-checks; raises SceneError naming the key."""
+    """Every section's check, the cross-checks and the limits (``scene.limits``): the one place
+    a scene's values are checked; raises SceneError naming the key."""
     try:
         for section in ("car", "friction", "tyres", "road", "manoeuvre", "drive", "simulator",
                         "logging", "visualization"):
             value = getattr(scene, section)
             if value is not None:
                 checked(value, section)
-        _check_plant(scene.plant)
+        check_plant(scene.plant)
         _check_cross(scene)
         scene = resolve_vertical(scene)
+        check_limits(scene)
     except ParameterError as e:
         raise SceneError(f"{where}: {e}") from None
     announce_large_road(scene, where)
@@ -207,29 +228,6 @@ def channels_of(scene: Scene):
 
 
 # -- checks ---------------------------------------------------------------------------------
-
-def _check_plant(plant: MultibodyPlantConfig):
-    default = default_plant_config()
-    step = plant.time_step
-    if not (isinstance(step, float) and math.isfinite(step) and 0 < step <= MAX_TIME_STEP_S):
-        raise ParameterError("plant.time_step", step,
-                             f"must lie in (0, {MAX_TIME_STEP_S:g}] s (the plant is discrete)")
-    if plant.discrete_contact_approximation != "sap":
-        raise ParameterError("plant.discrete_contact_approximation",
-                             plant.discrete_contact_approximation,
-                             "must be sap: the car's servos and friction are SAP PD actuators")
-    if not plant.use_sampled_output_ports:
-        raise ParameterError("plant.use_sampled_output_ports", False,
-                             "must be true: the friction and tyres read the sampled outputs")
-    for name in INERT_PLANT_FIELDS:
-        if getattr(plant, name) != getattr(default, name):
-            raise ParameterError(f"plant.{name}", getattr(plant, name),
-                                 "has no effect on this car (it has no collision geometry); "
-                                 "leave it out")
-    if not plant.sap_near_rigid_threshold >= 0:
-        raise ParameterError("plant.sap_near_rigid_threshold", plant.sap_near_rigid_threshold,
-                             "must be >= 0")
-
 
 def _check_cross(scene: Scene):
     m, sim = scene.manoeuvre, scene.simulator

@@ -164,7 +164,7 @@ class Straight(DrivingManoeuvre):
 
 def calibrated_lane_change():
     """(amplitude_m, second_lobe) of the calibrated lane change: the package's
-    ``lane_change_profile.json``, written by ``experiments/calibrate_lane_change.py``."""
+    ``lane_change_profile.json``, written by ``drake-car-calibrate``."""
     text = importlib.resources.files(__package__).joinpath(
         "lane_change_profile.json").read_text()
     profile = json.loads(text)["profile"]

@@ -19,7 +19,7 @@ failure that names the difference)::
                                   run|infrastructure; else null), wall_s (the task on its
                                   worker: build, equilibrium unless cached, run), worker,
                                   finished_utc, error, traceback
-    DIR/runs/<hash>/scene.yaml    the scene (rerun it: python -m drake_car.run --scene it)
+    DIR/runs/<hash>/scene.yaml    the scene (rerun it: drake-car-run --scene it)
     DIR/runs/<hash>/history.csv, run.json, diagram.dot   an ok run's files (their sha256 in
                                   status.json's "files": checked on resume, a damaged run is
                                   run again; a folder with a *.pkl is refused)
@@ -55,19 +55,19 @@ from pathlib import Path
 from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.law.checks import one_line
+from drake_car.law.errors import RunFailed
 from drake_car.results.files import run_texts
 from drake_car.results.provenance import code_versions
 from drake_car.results.record import run_from_texts
-from drake_car.scene.load import check_scene, dump_scene, scene_hash
+from drake_car.scene.load import dump_scene, scene_hash
 from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
 from drake_car.sweep.scheduler import CONNECT_TIMEOUT_S, check_scheduler
 from drake_car.sweep.store import (
-    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, check_layout, commit_run,
-    damage, failure_kind, files_read, folder_lock, key_parts, load_run, read_status,
-    rebuild_index, remove_stale, run_key)
-from drake_car.sweep.store import announce_other_code as _announce_other_code
+    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, announce_other_code,
+    check_layout, commit_run, damage, failure_kind, files_read, folder_lock, key_parts, load_run,
+    read_status, rebuild_index, remove_stale, run_key)
 from drake_car.systems.failure import SimulationFailure
 
 LOOPBACK = "127.0.0.1"
@@ -135,12 +135,13 @@ def run_task(items):
     return results
 
 
-class OtherCode(RuntimeError):
+class OtherCode(RunFailed):
     """A worker's code, versions or files differ from what the run's key was made of."""
 
 
 def _scene_of(text, parts):
-    scene = check_scene(yaml_load_typed(schema=Scene, data=text))
+    # The parent checked the scene; its hash says this is that scene: not checked again.
+    scene = yaml_load_typed(schema=Scene, data=text)
     if scene_hash(scene) != parts["scene_hash"]:
         raise RuntimeError(f"the scene's YAML loads back as {scene_hash(scene)}, "
                            f"not {parts['scene_hash']}")
@@ -306,7 +307,7 @@ def missing(scenes, out_dir, *, rerun_failed=False, jobs=None):
             record = None
         if not kept(record, rerun_failed=rerun_failed):
             todo.append(job)
-    _announce_other_code(runs, {job.parts["scene_hash"]: job for job in todo})
+    announce_other_code(runs, {job.parts["scene_hash"]: job for job in todo})
     return todo
 
 
@@ -382,7 +383,7 @@ def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
         results = {key: load_run(out_dir, key) for key in jobs}
     else:
         def keep(job, record, result):
-            results[job.hash] = (record, run_from_texts(result) if record["status"] == "ok"
+            results[job.hash] = (record, run_from_texts(result, trusted=True) if record["status"] == "ok"
                                  else result)
         with (contextlib.nullcontext(client) if client is not None else
               dask_client(scheduler, min(workers or cores(), len(jobs)))) as own:

@@ -9,7 +9,6 @@ from pydrake.multibody.plant import Propeller, PropellerInfo
 from pydrake.multibody.tree import BodyIndex
 from pydrake.systems.framework import LeafSystem
 
-from drake_car.law.tyre.magic_formula import magic_formula
 from drake_car.law.road.profiles import Flat
 from drake_car.law.tyre.compiled import tyre_step
 from drake_car.law.tyre.packing import pack_coefficients, pack_config, pack_road
@@ -172,28 +171,6 @@ class TyreSystem(LeafSystem):
         self.DeclareStateOutputPort("tyre_wrenches", self._wrenches)
         self.DeclareStateOutputPort("tyre_loads", self._loads)
         self.DeclareStateOutputPort("tyre_diagnostics", self._diagnostics)
-
-    def check_time_step(self, time_step_s, spin_inertia_kgm2):
-        """The horizontal forces act on the wheels' spin explicitly: the low-speed damping c
-        and the contact patch's longitudinal spring K_x/σκ need dt < 2 I/(c R²) and
-        dt < 2/ω, ω = R sqrt(K_x/(σκ I)). Raises ValueError past either limit."""
-        if self._mf is None:
-            return
-        radius = self._tyre.unloaded_radius_m
-        limits = []
-        if self._slip.low_speed_damping_Nspm > 0:
-            limits.append(2 * spin_inertia_kgm2
-                          / (self._slip.low_speed_damping_Nspm * radius ** 2))
-        if self._relaxed:
-            kx = magic_formula(self._mf, self._mf.FNOMIN, 0.0, 0.0, 0.0, 0.0).slip_stiffness
-            omega = radius * (kx / (self._slip.relaxation_length_long_m
-                                    * spin_inertia_kgm2)) ** 0.5
-            limits.append(2.0 / omega)
-        if limits and time_step_s > min(limits):
-            raise ValueError(
-                f"time_step_s = {time_step_s:g} s is above the tyres' explicit stability limit "
-                f"{min(limits):.2g} s (wheel spin inertia {spin_inertia_kgm2:g} kg m²); use a "
-                "smaller step")
 
     def diagnostic_names(self):
         """Per wheel, the fields with the wheel's name before the unit: "Fx_fl_N", "kappa_fl"."""

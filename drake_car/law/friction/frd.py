@@ -41,7 +41,9 @@ NORMAL_FORCE_FORMS = ("vector", "magnitude_sum", "contact_pair")
 
 @dataclasses.dataclass(frozen=True)
 class FrictionPairLaw:
-    """Parameters of one friction pair. ``dv`` in m/s (rad/s), ``dmax`` in m (rad)."""
+    """Parameters of one friction pair. ``dv`` in m/s (rad/s), ``dmax`` in m (rad). Made from
+    checked ``StrutFrictionParameters`` (``translation()``, ``rotation()``), which check every
+    value once, where the scene is loaded: this constructor trusts them."""
 
     mu_s: float
     mu_d: float
@@ -49,14 +51,6 @@ class FrictionPairLaw:
     dmax: float = 5e-6
     beta_shape: str = "cubic"
     creep_shape: str = "cubic"
-
-    def __post_init__(self):
-        nonnegative(self, "mu_s", "mu_d")
-        positive(self, "dv", "dmax")
-        if self.mu_s < self.mu_d:
-            raise ParameterError("mu_d", self.mu_d, f"must be <= mu_s = {self.mu_s}")
-        one_of(self, "beta_shape", SHAPES)
-        one_of(self, "creep_shape", SHAPES)
 
     @property
     def lubricated(self):
@@ -193,7 +187,9 @@ class StrutFrictionParameters:
     """Both pairs of a cylindrical joint with friction (paper section 3): the law's parameters,
     loadable from a scene (``friction.law``). Paper values default, with the "practically
     realistic" dry set (μs, μd) = (0.2, 0.15). The rod radius r of eq. (6) is the strut's
-    geometry, not the law's: the system takes it from the model."""
+    geometry, not the law's: the system takes it from the model. ``check()`` refuses a value
+    out of range; a scene's load runs it once (the one place it is checked), and everything made
+    from the parameters after (the pairs' laws, the systems) trusts them."""
 
     mu_s: float = 0.2
     mu_d: float = 0.15
@@ -206,9 +202,6 @@ class StrutFrictionParameters:
     preload_force_N: float = 0.0  # F0 of eq. (4)
     preload_moment_Nm: float = 0.0  # M0 of eq. (6)
     normal_force_form: str = "vector"  # vector (paper) | magnitude_sum (ADAMS) | contact_pair
-
-    def __post_init__(self):
-        self.check()
 
     def check(self):
         """Raises ParameterError naming the first field out of range."""

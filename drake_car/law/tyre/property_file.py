@@ -16,6 +16,7 @@ the line and the key.
 import dataclasses
 import math
 import re
+from drake_car.law.errors import InputError
 
 _SECTION = re.compile(r"^\[([A-Za-z0-9_ ]+)\]$")
 _ENTRY = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(.*)$")
@@ -24,7 +25,7 @@ _TABLE_HEADER = re.compile(r"^\{.*\}$")
 _META = ("MDI_HEADER", "UNITS")
 
 
-class TirFileError(ValueError):
+class TirFileError(InputError):
     """A tyre property file is missing, malformed or lacks a required coefficient."""
 
 

@@ -10,7 +10,7 @@ u_x, u_y with
     du_y/dt =  V_sy - |V_cx| u_y / σα,   tan α' = u_y / σα,
 integrated exactly over a step with the slip velocities held (the update itself is stable at
 any step; coupled to the wheels, whose spin it acts on explicitly, it needs the step limit of
-``TyreSystem.check_time_step``; at standstill the deflections act as springs). Without relaxation, the steady
+``explicit_time_step_limit_s``; at standstill the deflections act as springs). Without relaxation, the steady
 slips κ = -V_sx/|V_cx|, tan α = V_sy/|V_cx| are used, with |V_cx| floored at ``v_floor``.
 """
 
@@ -39,9 +39,6 @@ class SlipOptions:
     low_speed_mps: float = 1.0
     low_speed_damping_Nspm: float = 1500.0
 
-    def __post_init__(self):
-        self.check()
-
     def check(self):
         positive(self, "relaxation_length_long_m", "relaxation_length_lat_m", "v_floor_mps",
                  "low_speed_mps")
@@ -53,6 +50,22 @@ class SlipOptions:
                                      "tyre radii)")
         return self
 
+
+
+def explicit_time_step_limit_s(slip_stiffness_N, slip: SlipOptions, relaxation_length_long_m,
+                               radius_m, spin_inertia_kgm2):
+    """The largest stable step of the tyres' horizontal forces, which act on the wheels' spin
+    explicitly: the low-speed damping c needs dt < 2 I / (c R²), and with relaxation the contact
+    patch's longitudinal spring K_x/σκ (K_x the slip stiffness ``slip_stiffness_N``) needs
+    dt < 2/ω, ω = R sqrt(K_x / (σκ I)). Infinite when neither acts."""
+    limits = []
+    if slip.low_speed_damping_Nspm > 0:
+        limits.append(2 * spin_inertia_kgm2 / (slip.low_speed_damping_Nspm * radius_m ** 2))
+    if slip.relaxation:
+        omega = radius_m * (slip_stiffness_N / (relaxation_length_long_m
+                                                * spin_inertia_kgm2)) ** 0.5
+        limits.append(2.0 / omega)
+    return min(limits) if limits else math.inf
 
 @dataclasses.dataclass
 class ContactKinematics:

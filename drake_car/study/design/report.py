@@ -28,7 +28,7 @@ def _fmt(x, unit="", digits=2):
 
 
 def report(s, figures=""):
-    """Markdown of a design-study summary ``s`` (experiments/design_study.py); ``figures``:
+    """Markdown of a design-study summary ``s`` (drake-car-design); ``figures``:
     the path of the figures and the table from where the report is written."""
     study_threshold = 100 * s["split_threshold"]
     lines = ["# Where does strut friction change the wheel loads and the steering?", "",

@@ -27,6 +27,7 @@ import numpy as np
 
 from drake_car.law.tyre.magic_formula import linear_tyre, magic_formula
 from drake_car.model.parameters import GRAVITY_MPS2
+from drake_car.law.errors import InputError
 
 # rad per m/s² -> deg per g
 DEG_PER_G = math.degrees(1.0) * GRAVITY_MPS2
@@ -37,7 +38,7 @@ DEFAULT_AY_RANGE = (0.5, 3.0)
 LOCAL_BINS = ((0.5, 1.5), (1.5, 3.0), (3.0, 4.5), (4.5, 5.5), (5.5, 6.5))
 
 
-class HandlingError(ValueError):
+class HandlingError(InputError):
     """A run cannot give a metric (too few samples in the fit range, no steady state)."""
 
 

@@ -214,7 +214,7 @@ def section(result):
         f"{t['radial_damping_Nspm']:g} N s/m ("
         + ("the file's VERTICAL_STIFFNESS and VERTICAL_DAMPING: tyres.vertical_from_file"
            if t["vertical_from_file"] else "car.tyre's") + ").", "",
-        "Curves, figures and summary as `python -m drake_car.tyre` writes them: "
+        "Curves, figures and summary as `drake-car-tyre` writes them: "
         "`tyre/curves.csv`, `tyre/summary.txt`, "
         + ", ".join(f"[`tyre/{name}`](tyre/{name}) ({caption})"
                     for name, caption in FIGURES.items()) + ".", ""]

@@ -14,6 +14,7 @@ import numpy as np
 
 from drake_car.model.geometry import SIDES
 from drake_car.scene.manoeuvres import LaneChange, Timeline
+from drake_car.law.errors import InputError
 
 CASES = ("a", "b")
 RUN_COLUMNS = (
@@ -32,7 +33,7 @@ FRICTION_CHANNELS = {"creep_{side}_m": "creep", "beta_{side}": "beta", "mu1_{sid
                      "N_{side}_N": "N", "Ffric_{side}_N": "friction"}
 
 
-class StudyError(ValueError):
+class StudyError(InputError):
     """The runs given are not the paper's study (cases × friction sets); says what is wrong."""
 
 

@@ -190,7 +190,7 @@ def _paper_drive(s):
              "The runs above drive the front wheels through an open differential (one torque "
              "split equally: a front-drive car). The paper prescribes both front wheels' "
              "rotation, which locks the front axle: about 2.5 deg/g more understeer on this car "
-             "(experiments/handling.py), and the launch follows the prescribed speed even "
+             "(drake-car-handling), and the launch follows the prescribed speed even "
              "beyond the tyres' grip. The same six runs, the same rack input, with the paper's "
              "drive (the car then turns less and its struts see other loads):", "",
              "| # | open differential | the paper's drive | deciding number with the paper's "
@@ -380,7 +380,7 @@ def _runs_and_files(s):
                      f"{info['wall_s']:.1f} | {info['real_time_factor']:.2f} | "
                      f"{info['frozen_sap_steps']} | `{info['scene_hash']}` |")
     lines += ["", "Each run's scene, as it ran, is `<run>/scene.yaml` (rerun it with "
-              "`python -m drake_car.run --scene <run>/scene.yaml --out DIR`). Frozen SAP steps: "
+              "`drake-car-run --scene <run>/scene.yaml --out DIR`). Frozen SAP steps: "
               "steps in which Drake's solver returned its initial guess "
               "(`drake_car/systems/sap_pacer.py`); the pacer keeps them at 0.", "",
               "## Files", ""]

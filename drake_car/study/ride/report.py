@@ -1,5 +1,5 @@
 """The ride study's tables, linearity check and report text (``DIR/report.md`` is written by
-``experiments/ride.py`` from these)."""
+``drake-car-ride`` from these)."""
 
 import csv
 import math

@@ -35,12 +35,13 @@ import math
 
 import numpy as np
 from scipy import stats
+from drake_car.law.errors import InputError
 
 RAMP_SAMPLES = 8
 MIN_HALF_CYCLES = 3
 
 
-class LoopError(ValueError):
+class LoopError(InputError):
     """A loop that cannot be evaluated (too short, no reversals, bad columns)."""
 
 

@@ -18,7 +18,7 @@ from drake_car.law.friction.coulomb import (
     belt_exit_speed_mps, belt_law_period_s, belt_shift, oscillator_decay_per_cycle_m,
     oscillator_turn_bound_m)
 from drake_car.law.friction.frd import StrutFrictionParameters
-from drake_car.sim.rig import RigOptions, simulate_rig
+from drake_car.sim.rigs.friction import RigOptions, simulate_rig
 
 # The belt of issue 32: 30 kg on 6 kN/m over a belt at 0.1 m/s, N = 300 N, μs = 0.4, μd = 0.3:
 # a stick of x_s - x_d = 5 mm each way (10 mm) and a cycle of 0.46 s. Δv = 1 % of the belt's
@@ -66,7 +66,7 @@ class BeltReading:
 
 
 def read_belt(history, law, *, mass_kg, normal_force_N, spring_Npm, belt_speed_mps):
-    """A ``BeltReading`` of a rig history recorded every step (``sim.rig.simulate_rig``)."""
+    """A ``BeltReading`` of a rig history recorded every step (``sim.rigs.friction.simulate_rig``)."""
     pair = law.translation()
     edge = belt_exit_speed_mps(pair, belt_speed_mps) - belt_speed_mps  # -1.5 Δv
     t, x, u = history["t"], history["x_m"], history["v_mps"]

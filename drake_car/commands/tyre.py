@@ -13,12 +13,12 @@ The file is read as its format defines it (PAC2002, MF 6.1, MF 6.2 or drake_car'
 MF_2006_BOOK); MF 6.x at its INFLPRES unless --pressure_Pa. Bad input (an unreadable or
 unsupported file, a folder): one line on stderr naming it, exit status 2, nothing written.
 
-  python -m drake_car.tyre --tir tests/data/tyres/Sedan_Pac02Tire.tir --out results/tyre_sedan
+  drake-car-tyre --tir tests/data/tyres/Sedan_Pac02Tire.tir --out results/tyre_sedan
 """
 
 import sys
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.law.tyre.magic_formula import MagicFormulaTyre
 from drake_car.model.loading import tir_path
 from drake_car.results.folder import output_folder
@@ -26,7 +26,7 @@ from drake_car.study.handling import tyre_curves
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, prog="python -m drake_car.tyre")
+    p = cli.parser(__doc__, name="tyre")
     p.add_argument("--tir", required=True,
                    help="tyre property file: a path, or a name in the package's urdf/ data")
     p.add_argument("--pressure_Pa", type=float, default=None,

@@ -4,13 +4,13 @@ phase III at 60 km/h and ends parallel, starting at rest in static equilibrium a
 run does. Writes the result, with every iteration, to the package's lane-change calibration
 (drake_car/scene/lane_change_profile.json: the !LaneChange defaults) or to --out FILE.
 
-  python experiments/calibrate_lane_change.py [--scene FILE[:ENTRY]] [--scene_text YAML]
+  drake-car-calibrate [--scene FILE[:ENTRY]] [--scene_text YAML]
 """
 
 import importlib.resources
 from pathlib import Path
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.results.provenance import provenance
 from drake_car.study.paper.calibration import calibrate_lane_change, save_calibration
 
@@ -19,11 +19,11 @@ DEFAULT = Path(str(importlib.resources.files("drake_car.scene").joinpath(
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, out=False)
-    p.add_argument("--out", type=Path, default=DEFAULT, help="where to write (a JSON file)")
+    p = cli.parser(__doc__, name="calibrate", out=DEFAULT, out_help="where to write (a JSON "
+                   "file; default: the package's calibration, %(default)s)", scene=True,
+                   scene_help="the car, tyres and timeline from this scene (FILE[:ENTRY]; "
+                              "default: the default scene)")
     p.add_argument("--shift_m", type=cli.positive("shift_m"), default=3.7)
-    cli.add_scene_options(p, help_scene="the car, tyres and timeline from this scene "
-                                        "(FILE[:ENTRY]; default: the default scene)")
     args = p.parse_args(argv)
     scene = cli.scene_from_args(args)
     manoeuvre, history = calibrate_lane_change(scene, shift_m=args.shift_m)
@@ -35,5 +35,10 @@ def main(argv=None):
           f"wrote {args.out}")
 
 
-if __name__ == "__main__":
+def console():
+    """The console script ``drake-car-calibrate``."""
     cli.run_main(main)
+
+
+if __name__ == "__main__":
+    console()

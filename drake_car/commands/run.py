@@ -10,14 +10,14 @@
 Bad input (a scene key, a value out of range, a tyre file, an output folder): one line on
 stderr naming it, exit status 2, nothing written.
 
-  python -m drake_car.run --scene scenes/paper_study.yaml --child a_3 --out results/a_3
-  python -m drake_car.run --scene scenes/car.yaml:bump --scene_text "plant: {time_step: 5e-4}" \\
+  drake-car-run --scene scenes/paper_study.yaml --child a_3 --out results/a_3
+  drake-car-run --scene scenes/car.yaml:bump --scene_text "plant: {time_step: 5e-4}" \\
       --out results/bump
 """
 
 import sys
 
-from drake_car import cli
+from drake_car.commands import cli
 from drake_car.scene.load import load_scene, parse_scene_option
 from drake_car.results.files import write_run
 from drake_car.results.folder import output_folder
@@ -25,10 +25,8 @@ from drake_car.sim.simulate import simulate
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, prog="python -m drake_car.run")
-    p.add_argument("--scene", required=True, help="scene file, optionally FILE:ENTRY")
+    p = cli.parser(__doc__, name="run", scene=True, scene_required=True)
     p.add_argument("--child", default=None, help="the entry of the scene file to run")
-    p.add_argument("--scene_text", default="", help="YAML laid over the scene")
     args = p.parse_args(argv)
     path, child = parse_scene_option(args.scene)
     if args.child is not None:
@@ -43,10 +41,10 @@ def main(argv=None):
           f"({run.frozen_sap_steps} frozen SAP steps); wrote {args.out}", file=sys.stderr)
 
 
-if __name__ == "__main__":
-    cli.run_main(main)
-
-
 def console():
-    """The ``drake-car-run`` console script."""
+    """The console script ``drake-car-run``."""
     cli.run_main(main)
+
+
+if __name__ == "__main__":
+    console()

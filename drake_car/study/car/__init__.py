@@ -1,0 +1,1 @@
+"""The car checked on its own: settling, kinematics, their figures and report."""
