@@ -35,9 +35,10 @@ that the study run's other systems have filled.
 
 How to read it: "the rest" (step_cost.py) is the study run's step less the plant alone less
 the Python callbacks timed inside it; the variants put numbers on the parts of it that can be
-removed. What none of them removes is Drake's own per-step work around a Diagram of ~30 systems
-(event scan, time advance, the input chain into the plant, cache invalidation); a profile
-(perf, in the closing note of issue 32) splits that.
+removed without changing a history (under load their differences carry tens of µs of noise:
+step_instructions.py counts the same variants' instructions, which load does not change). The
+parts none of them removes, Drake's own per-step work around a Diagram of ~30 systems and the
+plant's step slowed between the other systems' code, are split by step_profile.py.
 
   python benchmarks/step_rest.py [--run a_3] [--time_step_s 1e-3] [--rounds 30]
 """
