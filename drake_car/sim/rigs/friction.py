@@ -2,8 +2,21 @@
 
 The strut friction system acts on the block-belt joint with a given normal force; the block is
 loaded by an external force F(t) = F0 + Ḟ·t + A·sin(2πft) (switched off after ``force_off_s``),
-a spring to a fixed anchor and, if the joint is inclined, gravity. The belt moves at constant
-speed (a stiff SAP servo), or is welded to the world when its speed is zero.
+a spring to a fixed anchor and, if the joint is inclined, gravity.
+
+The belt moves at a constant speed V. The plant runs in the belt's frame, which is inertial:
+the belt is welded there and the spring's anchor moves at -V, so the block's position from the
+anchor is x = q + V t (q the joint's position, q̇ the velocity relative to the belt): a belt
+driven at exactly V. (Before issue 32 the belt was a 100 kg body held at V by a stiff SAP
+servo. SAP then solved block and belt as one problem, warm-started at the last step's
+velocities, and stopped before iterating when the guess met its relative tolerance, 1e-6 of
+the problem's momentum, the belt's included (``systems.sap_pacer``): a net force on the block
+below about 1e-6 |p| √m / dt was dropped (0.7 N at 10 µs). On the belt of
+``study.rig.closed_forms`` 28, 64, 79 and 89 % of the static phase's steps were so frozen at 40,
+20, 10 and 5 µs, and the explicit scheme's period, converging at 40..10 µs, moved away at 5 µs
+by +0.03 %.) The reference scheme gives SAP no constraint at all, so SAP returns the
+unconstrained velocities exactly; the fast scheme's PD actuators do, so its rig has the car's
+SAP pacer.
 """
 
 import dataclasses
@@ -11,8 +24,7 @@ import math
 
 import numpy as np
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
-from pydrake.multibody.tree import (
-    PdControllerGains, PrismaticJoint, RevoluteJoint, SpatialInertia, UnitInertia)
+from pydrake.multibody.tree import PrismaticJoint, RevoluteJoint, SpatialInertia, UnitInertia
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
 from pydrake.systems.primitives import LogVectorOutput
@@ -22,15 +34,11 @@ from drake_car.law.friction.frd import StrutFrictionParameters, explicit_time_st
 from drake_car.sim.monitor import Monitor
 from drake_car.sim.simulation import Runner, RunResult, state_columns
 from drake_car.systems.friction_pairs import Strut, declare_pairs
+from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 from drake_car.systems.strut_friction import DIAGNOSTIC_FIELDS, StrutFriction
 
 GRAVITY_MPS2 = 9.81
 MAX_NORMAL_FORCE_N = 1e6
-# The belt's speed servo (SAP PD, implicit, on the 100 kg belt): stiff enough that the belt's
-# lag under a friction load F, F/p, and its speed dip under a load change ΔF, ~ΔF/d, are
-# far below the friction's own scales (Δmax, Δv): 120 N gives 0.12 µm and 1e-6 m/s.
-BELT_SERVO_P = 1e9
-BELT_SERVO_D = 1e8
 # The divergence monitor's check period on the rig (s).
 MONITOR_PERIOD_S = 0.01
 
@@ -95,6 +103,11 @@ class RigOptions:
                     f"{self.normal_force_N:g} N); use a smaller step or the fast scheme")
         return self
 
+    def anchor_distance_m(self, q, t):
+        """The block's position from the spring's anchor: q + V t (the plant runs in the belt's
+        frame, the belt at q = 0)."""
+        return q + self.belt_speed_mps * t
+
     def external_force(self, t):
         if t >= self.force_off_s:
             return 0.0
@@ -103,7 +116,8 @@ class RigOptions:
 
 
 class RigLoad(LeafSystem):
-    """Generalized force on the block's joint: F(t) - k·x_world (+ nothing else).
+    """Generalized force on the block's joint: F(t) - k·x, x = q + V t the block's position from
+    the spring's anchor (V the belt's speed; the plant runs in the belt's frame).
 
     .. pydrake_system::
 
@@ -114,22 +128,21 @@ class RigLoad(LeafSystem):
         - generalized_force
     """
 
-    def __init__(self, plant, options: RigOptions, block_joint, belt_joint):
+    def __init__(self, plant, options: RigOptions, block_joint):
         super().__init__()
         self._options = options
         self._nv = plant.num_velocities()
         self._q_block = block_joint.position_start()
         self._v_block = block_joint.velocity_start()
-        self._q_belt = None if belt_joint is None else belt_joint.position_start()
         self._state_port = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self.DeclareVectorOutputPort("generalized_force", self._nv, self._calc)
 
     def _calc(self, context, output):
         x = self._state_port.Eval(context)
-        position = x[self._q_block] + (0.0 if self._q_belt is None else x[self._q_belt])
+        t = context.get_time()
         u = np.zeros(self._nv)
-        u[self._v_block] = (self._options.external_force(context.get_time())
-                            - self._options.spring_Npm * position)
+        u[self._v_block] = (self._options.external_force(t) - self._options.spring_Npm
+                            * self._options.anchor_distance_m(x[self._q_block], t))
         output.SetFromVector(u)
 
 
@@ -144,7 +157,6 @@ class Rig:
     plant: object
     friction: object  # StrutFriction or None
     block_joint: object
-    belt_joint: object
     options: RigOptions
     loggers: dict = dataclasses.field(default_factory=dict)
     log_columns: dict = dataclasses.field(default_factory=dict)
@@ -163,8 +175,7 @@ class Rig:
         velocity relative to the belt, the friction pair's creep, μ and phase, friction_N
         the force the plant applied (the net actuation, PD included)."""
         n = len(logged["t"])
-        x = logged[f"q_{self.block_joint.name()}"] + (
-            0.0 if self.belt_joint is None else logged[f"q_{self.belt_joint.name()}"])
+        x = self.options.anchor_distance_m(logged[f"q_{self.block_joint.name()}"], logged["t"])
         out = {"t": logged["t"], "x_m": x, "v_mps": logged[f"v_{self.block_joint.name()}"]}
         for column, field in (("creep_m", "creep"), ("mu", "mu"), ("phase", "phase"),
                               ("friction_N", "actuation")):
@@ -177,8 +188,6 @@ class Rig:
         v = self.plant.GetVelocities(pc)
         q[self.block_joint.position_start()] = self.options.x0_m
         v[self.block_joint.velocity_start()] = self.options.v0_mps
-        if self.belt_joint is not None:
-            v[self.belt_joint.velocity_start()] = self.options.belt_speed_mps
         self.plant.SetPositions(pc, q)
         self.plant.SetVelocities(pc, v)
 
@@ -199,14 +208,7 @@ def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None
     block_instance = plant.AddModelInstance("block")
     belt = plant.AddRigidBody("belt", belt_instance,
                               SpatialInertia(100.0, np.zeros(3), UnitInertia(1.0, 1.0, 1.0)))
-    belt_joint = None
-    if options.belt_speed_mps != 0:
-        belt_joint = plant.AddJoint(PrismaticJoint(
-            "belt_slide", plant.world_frame(), belt.body_frame(), axis))
-        servo = plant.AddJointActuator("belt_servo", belt_joint)
-        servo.set_controller_gains(PdControllerGains(p=BELT_SERVO_P, d=BELT_SERVO_D))
-    else:
-        plant.WeldFrames(plant.world_frame(), belt.body_frame(), RigidTransform())
+    plant.WeldFrames(plant.world_frame(), belt.body_frame(), RigidTransform())  # its own frame
     if options.rotational:
         inertia = SpatialInertia(options.mass_kg, np.zeros(3),
                                  UnitInertia(0.01, 0.01, 0.01))  # 0.1 m radius of gyration
@@ -223,7 +225,13 @@ def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None
         pairs = declare_pairs(plant, None if options.rotational else block_joint,
                               block_joint if options.rotational else None, options.scheme,
                               prefix="rig_friction")
+    # The fast scheme's PD actuators make the block a SAP constraint problem: the pacer makes
+    # SAP iterate every step, as in the car (systems.sap_pacer: no frozen steps). The reference
+    # scheme gives SAP no constraint at all: it returns the unconstrained velocities exactly.
+    pacer = add_sap_pacer(plant) if options.friction and options.scheme == "fast" else None
     plant.Finalize()
+    if pacer is not None:
+        connect_sap_pacer(builder, plant, pacer)
 
     friction = None
     if options.friction:
@@ -240,19 +248,15 @@ def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None
         if friction.desired_state_output_port() is not None:
             builder.Connect(friction.desired_state_output_port(),
                             plant.get_desired_state_input_port(block_instance))
-    load = builder.AddSystem(RigLoad(plant, options, block_joint, belt_joint))
+    load = builder.AddSystem(RigLoad(plant, options, block_joint))
     load.set_name("rig_load")
     builder.Connect(plant.get_state_output_port(), load.GetInputPort("plant_state"))
     builder.Connect(load.get_output_port(0), plant.get_applied_generalized_force_input_port())
-    if belt_joint is not None:
-        belt_command = builder.AddSystem(_BeltCommand(options.belt_speed_mps))
-        builder.Connect(belt_command.get_output_port(0),
-                        plant.get_desired_state_input_port(belt_instance))
     loggers, columns = _add_loggers(builder, plant, friction, block_instance,
                                     record_period_s or options.time_step_s)
     diagram = builder.Build()
     diagram.set_name("friction_rig")
-    return Rig(diagram, plant, friction, block_joint, belt_joint, options, loggers, columns)
+    return Rig(diagram, plant, friction, block_joint, options, loggers, columns)
 
 
 def _add_loggers(builder, plant, friction, block_instance, period):
@@ -270,19 +274,6 @@ def _add_loggers(builder, plant, friction, block_instance, period):
     for group, logger in loggers.items():
         logger.set_name(f"log_{group}")
     return loggers, columns
-
-
-class _BeltCommand(LeafSystem):
-    """Desired belt state [v·t, v]."""
-
-    def __init__(self, speed):
-        super().__init__()
-        self._speed = speed
-        self.DeclareVectorOutputPort("belt_desired_state", 2, self._calc)
-
-    def _calc(self, context, output):
-        t = context.get_time()
-        output.SetFromVector([self._speed * t, self._speed])
 
 
 RIG_COLUMNS = ("t", "x_m", "v_mps", "creep_m", "mu", "phase", "friction_N")
