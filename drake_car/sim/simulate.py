@@ -15,6 +15,7 @@ import time
 import numpy as np
 from pydrake.systems.analysis import Simulator
 
+from drake_car.law.friction.events import EVENT_FIELDS, KIND_NAMES
 from drake_car.model.car import loop_closure_error, strut_overlap
 from drake_car.model.geometry import SIDES, design_axle_loads_N
 from pydrake.common.yaml import yaml_load_typed
@@ -26,6 +27,7 @@ from drake_car.sim.build import build_diagram
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
 from drake_car.sim.monitor import Monitor, Road
+from drake_car.sim.resolve import Resolver
 from drake_car.systems.tyre import WHEELS
 
 log = logging.getLogger(__name__)
@@ -51,6 +53,8 @@ class Run:
     diagram_dot: str
     replay_html: str | None = None
     cpu_s: float = math.nan  # CPU seconds of the simulation loop (this process, all threads)
+    events: dict | None = None  # the friction pairs' stick-slip events (``event_table``)
+    resolution: dict | None = None  # what the local resolution of events did (``sim.resolve``)
 
     def __getstate__(self):
         # Drake's configs do not pickle: a Run travels (to and from sweep workers) with its
@@ -85,7 +89,8 @@ class Run:
                 "real_time_factor": float(self.history["t"][-1]) / max(self.wall_s, 1e-9),
                 "steps": self.steps, "frozen_sap_steps": self.frozen_sap_steps,
                 "first_frozen_sap_step_s": self.first_frozen_sap_step_s,
-                "final": {k: v for k, v in self.final.items() if k != "positions"}}
+                "final": {k: v for k, v in self.final.items() if k != "positions"},
+                "events": self.events, "resolution": self.resolution}
 
 
 def estimate_wall_s(scene: Scene):
@@ -145,6 +150,13 @@ class Runner:
         self.progress = progress
         self.wall_s = 0.0
         self.cpu_s = 0.0
+        self.period_s = scene.simulator.monitor_period_s
+        # The friction's stick-slip events read after every chunk: (row, step, window) with row
+        # in law.friction.events.EVENT_FIELDS and window the resolution window (-1: none).
+        self.events, self.event_count, self.events_lost = [], 0, 0
+        self.resolver = None
+        if scene.simulator.resolve_events is not None and self.built.friction is not None:
+            self.resolver = Resolver(self, make_runner=Runner, logged_history=logged_history)
 
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
@@ -156,33 +168,58 @@ class Runner:
         self.simulator.Initialize()
 
     def advance_to(self, end):
-        period = self.scene.simulator.monitor_period_s
+        """Runs to ``end`` in the monitor's chunks (with the scene's event windows resolved,
+        ``sim.resolve``, when it asks for that)."""
+        period = self.period_s
         now = self.root.get_time()
-        first = int(np.floor(now / period + 1e-9)) + 1
-        last = max(first, int(np.ceil(end / period - 1e-9)))
         bar = _progress_bar(self.scene, self.scene.end_time_s, now) if self.progress else None
         began, cpu_began = time.perf_counter(), time.process_time()
         try:
             with _deferred_signals() as caught:
-                for k in range(first, last + 1):
-                    target = min(k * period, end)
-                    self.simulator.AdvanceTo(target)
+                while now < end - 1e-12:
+                    target = min((np.floor(now / period + 1e-9) + 1) * period, end)
+                    if self.resolver is not None:
+                        self.resolver.before_chunk()
+                    rows = self.step_chunk(target, caught)
                     if caught:
                         break
-                    self.monitor.check(self.root)
-                    if self.recorder is not None:
-                        self.recorder.frame(self.root)
+                    if self.resolver is not None:
+                        self.resolver.after_chunk(rows, end)
+                    now = self.root.get_time()
                     if bar is not None:
-                        bar.update(target - bar.n)
+                        bar.update(now - bar.n)
         finally:
             self.wall_s += time.perf_counter() - began
             self.cpu_s += time.process_time() - cpu_began
             if bar is not None:
                 bar.close()
 
+    def step_chunk(self, target, caught=()):
+        """Advances to ``target``, checks the state, records the replay's frame; returns the
+        friction events of the chunk (rows of ``law.friction.events.EVENT_FIELDS``)."""
+        self.simulator.AdvanceTo(target)
+        if caught:
+            return []
+        self.monitor.check(self.root)
+        if self.recorder is not None:
+            self.recorder.frame(self.root)
+        friction = self.built.friction
+        if friction is None:
+            return []
+        rows, self.event_count, lost = friction.events(friction.GetMyContextFromRoot(self.root),
+                                                       self.event_count)
+        self.events_lost += lost
+        step = self.scene.time_step_s
+        self.events.extend((row, step, -1) for row in rows)
+        return rows
+
     def finish(self) -> Run:
         built, root, scene = self.built, self.root, self.scene
         history = logged_history(built, root)
+        resolution = None
+        if self.resolver is not None:
+            history = self.resolver.spliced_history(history)
+            resolution = self.resolver.record()
         history["phase"] = [scene.manoeuvre.phase(t) for t in history["t"]]
         html = self.recorder.finish() if self.recorder is not None else None
         dot = built.diagram.GetGraphvizString(max_depth=1, options={"plant/split": "I/O"})
@@ -191,7 +228,18 @@ class Runner:
                    frozen_sap_steps=stats.frozen_steps,
                    first_frozen_sap_step_s=stats.first_frozen_time_s, steps=stats.steps,
                    final=final_state(built, root), diagram_dot=dot, replay_html=html,
-                   cpu_s=self.cpu_s)
+                   cpu_s=self.cpu_s, events=self.event_table(), resolution=resolution)
+
+    def event_table(self):
+        """The run's events as columns (``law.friction.events``: EVENT_FIELDS, the pair and
+        kind by name, ``band_steps`` (Δv over the step's velocity change: how many steps of
+        that change the static band is wide), the step that saw it, the window that resolved
+        it (-1: none)); None without friction."""
+        friction = self.built.friction
+        if friction is None:
+            return None
+        return event_columns(self.events, friction.pair_names(),
+                             friction.threshold_velocities(), self.events_lost)
 
 
 @contextlib.contextmanager
@@ -243,6 +291,20 @@ def _set_initial_state(built, root, scene):
     plant = built.plant
     plant.SetPositions(plant.GetMyMutableContextFromRoot(root), built.car.instance,
                        np.asarray(start.positions))
+
+
+def event_columns(events, pair_names, dv, lost=0):
+    """(row, step, window) triples as the JSON-ready columns ``Runner.event_table`` says."""
+    rows = [row for row, _, _ in events]
+    table = {field: [float(row[k]) for row in rows] for k, field in enumerate(EVENT_FIELDS)}
+    table["pair"] = [pair_names[int(row[1])] for row in rows]
+    table["kind"] = [KIND_NAMES[float(row[2])] for row in rows]
+    table["band_steps"] = [float(dv[int(row[1])] / abs(row[4])) if row[4] else math.inf
+                           for row in rows]
+    table["step_s"] = [float(step) for _, step, _ in events]
+    table["window"] = [int(window) for _, _, window in events]
+    table["lost"] = int(lost)
+    return table
 
 
 def _progress_bar(scene, end, now=0.0):
