@@ -54,6 +54,7 @@ import numpy as np
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
 from drake_car.model.geometry import SIDES
 from drake_car.scene.scene import NoVisualization, at_time_step
+from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state, state_values
 
 _EPS = 1e-9
@@ -96,11 +97,10 @@ class Outcome:
 class Resolver:
     """The windows of one ``sim.simulate.Runner`` (see the module)."""
 
-    def __init__(self, runner, *, make_runner, logged_history):
-        """``make_runner(scene, branchable=...)``: a runner of another scene (the levels');
-        ``logged_history(built, root)``: a Diagram's logged columns (``sim.simulate``'s)."""
+    def __init__(self, runner, *, make_runner):
+        """``make_runner(scene, branchable=...)``: a runner of another scene (the levels')."""
         self.runner = runner
-        self._make_runner, self._logged_history = make_runner, logged_history
+        self._make_runner = make_runner
         self.settings = runner.scene.simulator.resolve_events
         friction = runner.built.friction
         self.friction = friction
@@ -129,7 +129,8 @@ class Resolver:
         now = root.get_time()
         # A window may start before a slip that was going on ``lookback_s`` before its event:
         # the checkpoints of twice that are kept.
-        keep = 2 * self.settings.lookback_s + self.settings.lead_s + self.runner.period_s
+        s = self.settings
+        keep = 2 * s.lookback_s + s.lead_s + self.runner.built.monitor_period_s
         self.checkpoints = [c for c in self.checkpoints if c.time_s >= now - keep - _EPS]
         self.checkpoints.append(Checkpoint(now, state_values(self.runner.built, root),
                                            self.runner.monitor.snapshot(),
@@ -243,7 +244,7 @@ class Resolver:
         """Runs ``runner`` chunk by chunk until it is quiet (and at least at ``to_s``), or
         ``end_s``; fills ``outcome``."""
         began, steps0 = time.process_time(), runner.monitor.stats.steps
-        period = runner.period_s
+        period = runner.built.monitor_period_s
         while runner.root.get_time() < end_s - _EPS:
             now = runner.root.get_time()
             if (to_s is None or now >= to_s - _EPS) and now > outcome.end_s + _EPS and (
@@ -327,7 +328,7 @@ class Resolver:
     def _hand_back(self, checkpoint, chosen):
         """The resolving level's end state into the runner, its history and events kept."""
         runner, fine = self.runner, self.levels[chosen.level]
-        history = self._logged_history(fine.built, fine.root)
+        history = logged_history(fine.built, fine.root)
         keep = history["t"] > checkpoint.time_s + _EPS
         self.spliced.append((checkpoint.time_s, chosen.end_s,
                              {k: v[keep] for k, v in history.items()}))
