@@ -18,7 +18,7 @@ scenes/paper_study.yaml. Writes into DIR:
 
 Accuracy on demand (skip it with --no_verify), --refine local (the default): the runs with dry
 friction resolve their near-threshold stick-slip events locally (``sim.resolve``: windows
-re-run at halved steps until their outcome no longer changes; ``study.paper.local``), the
+re-run at halved steps until their outcome no longer changes; ``study.paper.local_route``), the
 others are refined globally; --refine global: every run is repeated at dt/2 and dt/4, and the
 runs whose deciding outcomes have not converged within their tolerances
 (``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
@@ -52,7 +52,7 @@ from drake_car.study.paper.claims import (
     check_study_scenes, evaluate_claims, friction_of, study_columns, study_runs)
 from drake_car.study.paper.outcomes import (
     at_one_step, read_outcomes, study_outcomes, write_outcomes)
-from drake_car.study.paper.local import accurate_runs
+from drake_car.study.paper.local_route import accurate_runs
 from drake_car.study.paper.report import report, summary
 from drake_car.sweep.refine import halved
 from drake_car.sweep.runner import run_scenes

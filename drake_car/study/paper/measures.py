@@ -56,7 +56,8 @@ def claim_measures(table: dict, roles: dict):
                "decides": bool(decides and relation is not None),
                "error": None if None in errors else max(errors) + threshold_error,
                "converged": None if None in converged else all(converged),
-               "steps_s": row["steps_s"], "values": row["values"]}
+               "steps_s": row["steps_s"], "values": row["values"],
+               "route": row.get("route"), "finest_step_s": row.get("finest_step_s")}
         return _judged(out)
 
     one = [m("rod movement as the acceleration ends, until the lane change: largest with "

@@ -52,7 +52,7 @@ COLUMNS = ("run", "outcome", "value", "error", "unit", "step_s", "converged", "t
            "observed_order", "steps_tried_s", "values_by_step", "run_wall_s", "route",
            "windows", "events_resolved", "finest_step_s", "resolution_cpu_s", "run_cpu_s")
 # How an outcome was made accurate: its run's whole step halved (global, ``sweep.refine``),
-# its events resolved locally (local, ``study.paper.local``), or one step (none).
+# its events resolved locally (local, ``study.paper.local_route``), or one step (none).
 ROUTES = ("global", "local", "none")
 
 

@@ -12,7 +12,7 @@ step; a verdict whose margin does not exceed its error is "undecided at the fine
 import dataclasses
 import math
 
-from drake_car.study.paper.local import error_method, resolution_section
+from drake_car.study.paper.local_route import error_method, local_error, resolution_section
 from drake_car.study.paper.measures import claim_measures, verdict
 from drake_car.study.paper.claims import (
     DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, run_of)
@@ -100,6 +100,8 @@ def _threshold(m):
 def _error(row):
     """A measure's numerical error as the report writes it: "±e" where converged, "not
     converged" with the values at each step where not."""
+    if row.get("route") == "local":
+        return local_error(row, quantity(row["error"] or 0.0, row["unit"], error=True))
     if row["error"] is None:
         return "not estimated (--no_verify: one step only)"
     if not row["converged"]:

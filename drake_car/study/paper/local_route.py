@@ -182,6 +182,18 @@ def error_method(refinement):
     return text
 
 
+def local_error(row, shown):
+    """A locally resolved measure's error as the report writes it (``shown``: the error as a
+    quantity)."""
+    finest = row.get("finest_step_s")
+    where = f"events resolved down to {1e3 * finest:g} ms" if finest else "no window"
+    if row["error"] is None:
+        return f"not estimated by the local route ({where}; not made of rest positions)"
+    if not row["converged"]:
+        return f"±{shown} from the windows, not converged ({where})"
+    return f"±{shown} ({where})"
+
+
 def resolution_section(refinement):
     """The report's table of how each run was made accurate and what that cost."""
     runs = (refinement or {}).get("runs")
