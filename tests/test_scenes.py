@@ -83,6 +83,7 @@ OVERRIDES = {
     "tyres no relaxation": "tyres: !MagicFormula {slip: {relaxation: false}}",
     "time step": "plant: {time_step: 0.0005}",
     "sap pacer off": "simulator: {sap_pacer: false}",
+    "sap tolerance loosened": "simulator: {sap_tolerance_factor: 2.0}",
     "start at design": "simulator: {start: design}",
     "ball-joint offset b": "car: {front: {ball_joint_offset_b_m: 0.06}}",
     "friction law": "friction: {law: {mu_s: 0.3}}",
@@ -95,6 +96,10 @@ OVERRIDES = {
     "equilibrium settle time": "simulator: {equilibrium_settle_s: 3.0}",
     "equilibrium step": "simulator: {equilibrium_time_step_s: 0.0005}",
     "hands off": "steering: !HandsOff {release_s: 1.0}",
+    "strut lean back": "car: {front: {strut_caster_deg: 5.0}}",
+    "spring seats fore-aft": "car: {front: {spring_offset_fore_aft_m: 0.03}}",
+    "rear drive": "car: {driven_axle: rear}",
+    "car file": "car_file: cars/engineers_car.yaml",
 }
 
 

@@ -21,7 +21,7 @@ import time
 
 from drake_car.commands import cli
 from drake_car.law.checks import ParameterError
-from drake_car.results.files import read_csv
+from drake_car.results.files import files_into, read_csv
 from drake_car.study.ride.analysis import collect
 from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
 from drake_car.study.ride.report import write_outputs
@@ -29,6 +29,9 @@ from drake_car.sweep.runner import run_sweep
 from drake_car.results.folder import OutputError
 from drake_car.sweep.store import (
     check_sweep_folder, damage, key_parts, read_status, run_key)
+
+
+OPTIONS = {"classes": "--classes", "speeds_kph": "--speeds"}  # RideStudy's fields
 
 
 @dataclasses.dataclass
@@ -51,7 +54,9 @@ def _list(text, kind, name):
 def main(argv=None):
     p = cli.parser(__doc__, name="ride", cluster=True, out_help=(
         "the study's sweep folder: its runs are added to it as they finish and "
-        "reused by the same command again (never replaced)"))
+        "reused by the same command again (never replaced)"), scene_text=(
+        "YAML laid over the ride's base scene (scenes/ride.yaml), so over every run (e.g. "
+        "another car: \"car_file: cars/bmw_320i.yaml\")"))
     p.add_argument("--classes", default="A,B,C", help="ISO 8608 road classes (default: A,B,C)")
     p.add_argument("--speeds", default="60,100", help="speeds in km/h (default: 60,100)")
     p.add_argument("--strut", default="damper",
@@ -65,9 +70,13 @@ def main(argv=None):
     if any(s not in STRUTS for s in struts):
         raise ParameterError("--strut", args.strut, f"must be one of {', '.join(STRUTS)}, both")
     studies = [RideStudy(classes=classes, speeds_kph=speeds, strut=s) for s in struts]
+    try:  # the options, before any work (the road's length is derived from the speeds)
+        studies[0].check()
+    except ParameterError as e:
+        raise ParameterError(OPTIONS.get(e.key, e.key), e.value, e.requirement) from None
     scenes = {}
     for study in studies:
-        scenes.update(ride_scenes(study))
+        scenes.update(ride_scenes(study, scene_text=args.scene_text or None))
     check_sweep_folder(args.out)
     began = time.perf_counter()
     if not args.no_run:
@@ -80,7 +89,8 @@ def main(argv=None):
     if not rows:
         raise ParameterError("--out", str(args.out), "holds no finished run with its "
                              "half-step twin (run without --no_run first)")
-    write_outputs(args.out, rows, runs, studies[0], time.perf_counter() - began)
+    with files_into(args.out) as out:  # each file whole
+        write_outputs(out, rows, runs, studies[0], time.perf_counter() - began)
     print(f"wrote {args.out / 'report.md'} ({len(rows)} runs with their twins)")
 
 

@@ -52,17 +52,20 @@ class Accurate:
 
 
 def accurate_runs(scenes, roles, timeline, simulate, *, route, extra, halve, finest_step_s,
-                  budget_s) -> Accurate:
+                  budget_s, solver_twin=None) -> Accurate:
     """The study's runs made accurate by ``route`` (see the module): "local" resolves the dry
     runs' events and refines the others globally, "global" refines every run
     (``sweep.refine``, down to ``finest_step_s`` or ``budget_s``). ``extra``: scenes run in
-    the first round too, at their step; ``simulate``: a round's scenes to Runs."""
+    the first round too, at their step; ``simulate``: a round's scenes to Runs;
+    ``solver_twin``: the globally refined runs' solver axis (``sweep.refine``; the locally
+    resolved runs have none)."""
     resolved = resolved_scenes(scenes) if route == "local" else scenes
     local = [n for n in scenes if resolved[n] is not scenes[n]]
     refined = refine({n: s for n, s in scenes.items() if n not in local},
                      outcomes_of_runs(roles, timeline), tolerances(), simulate,
                      finest_step_s=finest_step_s, budget_s=budget_s, drives=DRIVES,
-                     first_extra=extra | {n: resolved[n] for n in local}, halve=halve)
+                     first_extra=extra | {n: resolved[n] for n in local}, halve=halve,
+                     solver_twin=solver_twin)
     done = refined.runs.pop("extra")
     runs = {n: done[n] if n in local else refined.runs[0][n] for n in scenes}
     table = refined.outcomes | local_rows(study_outcomes(
@@ -176,9 +179,12 @@ def error_method(refinement):
         f"({1e3 * refinement['finest_step_s']:g} ms tried) or the budget is reached "
         f"({refinement['stopped']}). Converged: the last two differences are within the "
         "tolerance and shrink as a first-order scheme's do; the error is then the last "
-        "difference. A maximum over runs is taken over each run's own value, its error the "
-        "largest of theirs: a run is only ever compared with itself. A verdict is decided "
-        "only where its margin exceeds that error; \"n × the error\" says by how much."))
+        "difference, plus the solver's: each such run's twin at its finest step with SAP's "
+        "tolerance loosened twice moves it by that much (\"solver\" where that is the larger "
+        "part)" + ("; the locally resolved runs have no solver twin" if local else "") + ". A "
+        "maximum over runs is taken over each run's own value, its error the largest of "
+        "theirs: a run is only ever compared with itself. A verdict is decided only where its "
+        "margin exceeds that error; \"n × the error\" says by how much."))
     return text
 
 

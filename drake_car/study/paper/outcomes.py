@@ -49,8 +49,9 @@ TOLERANCES = {
 }
 DRIVES = {k for k, v in TOLERANCES.items() if v[2]}
 COLUMNS = ("run", "outcome", "value", "error", "unit", "step_s", "converged", "tolerance",
-           "observed_order", "steps_tried_s", "values_by_step", "run_wall_s", "route",
-           "windows", "events_resolved", "finest_step_s", "resolution_cpu_s", "run_cpu_s")
+           "observed_order", "steps_tried_s", "values_by_step", "run_wall_s", "solver_error",
+           "limited_by", "route", "windows", "events_resolved", "finest_step_s",
+           "resolution_cpu_s", "run_cpu_s")
 # How an outcome was made accurate: its run's whole step halved (global, ``sweep.refine``),
 # its events resolved locally (local, ``study.paper.local_route``), or one step (none).
 ROUTES = ("global", "local", "none")
@@ -118,16 +119,19 @@ def at_one_step(values: dict, step_s=None):
     values as ``refine`` would give them, with converged and error None."""
     return {k: {"unit": unit, "tolerance": TOLERANCES[k[1]][0], "steps_s": [step_s],
                 "values": [value], "value": value, "error": None, "converged": None,
-                "observed_order": None, "step_s": step_s}
+                "observed_order": None, "step_s": step_s, "solver_error": None,
+                "limited_by": None}
             for k, (value, unit) in values.items()}
 
 
 def write_outcomes(path, outcomes: dict, run_wall_s=None, run_cpu_s=None):
     """``outcomes.csv``: one row per run (or pair) and outcome, in ``COLUMNS``; converged is
     yes, no or "-" (not judged: a single step, or an outcome the local route gives no error);
-    the steps tried and the values at each are ";"-joined; how it was made accurate
-    (``ROUTES``) and, locally, the windows, the events in them, the finest step a window used
-    and the windows' CPU time; the runs' simulation wall and CPU time (all steps tried)."""
+    the steps tried and the values at each are ";"-joined; solver_error is the solver axis'
+    (``sweep.refine``; nan without one) and limited_by the axis whose error is the larger ("-"
+    without an error); how it was made accurate (``ROUTES``) and, locally, the windows, the
+    events in them, the finest step a window used and the windows' CPU time; the runs'
+    simulation wall and CPU time (all steps tried)."""
     rows = sorted(outcomes.items())
     wall, cpu = run_wall_s or {}, run_cpu_s or {}
 
@@ -149,6 +153,9 @@ def write_outcomes(path, outcomes: dict, run_wall_s=None, run_cpu_s=None):
         "values_by_step": [";".join(repr(float(v)) for v in r["values"]) for _, r in rows],
         "run_wall_s": [float(sum(wall.get(n, float("nan")) for n in s.split("|")))
                        for (s, _), _ in rows],
+        "solver_error": [float("nan") if r.get("solver_error") is None
+                         else float(r["solver_error"]) for _, r in rows],
+        "limited_by": [r.get("limited_by") or "-" for _, r in rows],
         "route": [r.get("route", "global" if r["converged"] is not None else "none")
                   for _, r in rows],
         "windows": [int(r.get("windows", 0)) for _, r in rows],
@@ -179,7 +186,8 @@ def read_outcomes(path):
             "observed_order": num("observed_order"),
             "steps_s": [float(s) for s in steps.split(";") if s],
             "values": [float(v) for v in values.split(";") if v],
-            "run_wall_s": num("run_wall_s")}
+            "run_wall_s": num("run_wall_s"), "solver_error": num("solver_error"),
+            "limited_by": None if c["limited_by"][i] == "-" else str(c["limited_by"][i])}
         if "route" in c:  # written since the local route (older files: global or one step)
             out[(subject, outcome)] |= {
                 "route": c["route"][i], "windows": int(float(c["windows"][i])),

@@ -4,10 +4,9 @@ and claims (pure: no simulation, no files).
 The report is written for a reader of the paper: it defines its terms first (sets, cases,
 phases, places, thresholds, peak and steady), gives every verdict beside its threshold, links
 each claim to the figure that shows it, and gives every deciding number from ``outcomes.csv``
-(each run's outcomes refined until they converge: ``sweep.refine``) with its numerical error,
-the same run's difference between its last steps, or "not converged" with the values at each
-step; a verdict whose margin does not exceed its error is "undecided at the finest step tried".
-"""
+(``sweep.refine``) with its numerical error (the step's plus the solver's) or "not converged"
+with the values at each step; a verdict whose margin does not exceed its error is "undecided
+at the finest step tried"."""
 
 import dataclasses
 import math
@@ -201,8 +200,7 @@ def _paper_drive(s):
              "drive |", "|---|---|---|---|"]
     for i, (claim, locked_verdict, number) in enumerate(zip(s["claims"], locked["verdicts"],
                                                            locked["numbers"]), start=1):
-        ours = "yes" if claim["reproduced"] else "no"
-        theirs = "yes" if locked_verdict else "no"
+        ours, theirs = ("yes" if v else "no" for v in (claim["reproduced"], locked_verdict))
         if locked_verdict != claim["reproduced"]:
             theirs = f"**{theirs}** (changes)"
         lines.append(_row(i, ours, theirs, number))
@@ -222,8 +220,7 @@ def _terms(s):
         lines.append(f"- **set {n}**: {what}")
     for case, what in s["cases"].items():
         lines.append(f"- **case {case}**: {what}")
-    ph, pl = s["phases_s"], s["places_s"]
-    tl = s["timeline_s"]
+    ph, pl, tl = s["phases_s"], s["places_s"], s["timeline_s"]
     lines += [
         f"- **phases** (on every figure): I {_span(ph['I'])}, at rest ({tl['settle_s']:g} s) "
         f"then the speed-up to {tl['speed_kph']:g} km/h; II {_span(ph['II'])}, straight at "
@@ -276,8 +273,9 @@ def _numbers_table(s):
     for i, rows in enumerate(s["deciding_numbers"], start=1):
         for r in rows:
             threshold = _threshold(r) if r["relation"] is not None else "-"
+            axis = " (solver)" if r.get("limited_by") == "solver" else ""
             error = ("-" if r["error"] is None else
-                     quantity(r["error"], r["unit"], True) if r["converged"] else
+                     quantity(r["error"], r["unit"], True) + axis if r["converged"] else
                      f"not converged (span {quantity(r['error'], r['unit'])})")
             margin = "-" if r["margin"] is None else \
                 f"{quantity(r['margin'], r['unit'])} = {_flip(r)}"
@@ -371,8 +369,8 @@ def _runs_and_files(s):
                      f"{info['frozen_sap_steps']} | `{info['scene_hash']}` |")
     lines += ["", "Each run's scene, as it ran, is `<run>/scene.yaml` (rerun it with "
               "`drake-car-run --scene <run>/scene.yaml --out DIR`). Frozen SAP steps: "
-              "steps in which Drake's solver returned its initial guess "
-              "(`drake_car/systems/sap_pacer.py`); the pacer keeps them at 0.", "",
+              "steps in which Drake's solver returned its initial guess (`drake_car/systems/"
+              "sap_pacer.py`); the pacer keeps them at 0.", "",
               "## Files", ""]
     figures = s["figures"]
     items = figures.items() if isinstance(figures, dict) else ((f, "") for f in figures)
@@ -380,11 +378,10 @@ def _runs_and_files(s):
         lines.append(f"- [{name}]({name})" + (f": {what}" if what else ""))
     lines += ["- [diagram_overview.svg](diagram_overview.svg): the Diagram at a glance (each "
               "system once, the plant's connected ports only, the loggers as one box); "
-              "[diagram.svg](diagram.svg): every port",
-              ""]
+              "[diagram.svg](diagram.svg): every port", ""]
     if s.get("replay"):
         page = f"{s['replay']}/replay.html"
         lines[-1:] = [f"- [{page}]({page}): the Meshcat replay of run {s['replay']} (open it "
-                      "in a browser, no network needed; Meshcat's "
-                      "controls play, pause and scrub it)", ""]
+                      "in a browser, no network needed; Meshcat's controls play, pause and "
+                      "scrub it)", ""]
     return lines
