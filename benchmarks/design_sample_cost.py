@@ -7,7 +7,12 @@ runs' worker times over workers × wall). The refinement of the jam cases is not
 cost is in the study's own report). An estimate [EST]: a sample, not the study; run it on a
 quiet machine and compare with the study's report.
 
-  python benchmarks/design_sample_cost.py [--per_part 6] [--workers 2]
+``--resolve``: the same sample run twice more, alternately as the study runs it by default
+(every run with dry friction resolving its events locally, ``study.design.resolved_runs``) and without
+(``--no_verify``); the runs' CPU time (Run.cpu_s: the simulation loop, windows included) per
+part and in all, and their ratio: what the local route costs over the study's runs.
+
+  python benchmarks/design_sample_cost.py [--per_part 6] [--workers 2] [--resolve]
 """
 
 import collections
@@ -24,6 +29,8 @@ from drake_car.sweep.runner import run_scenes
 def main():
     p = cli.parser(__doc__, prog="benchmarks/design_sample_cost.py", out=False, cluster=True)
     p.add_argument("--per_part", type=int, default=6)
+    p.add_argument("--resolve", action="store_true",
+                   help="also the CPU ratio of the sample resolving its events locally")
     args = p.parse_args()
     if args.per_part < 1:
         p.error("--per_part must be >= 1")
@@ -63,6 +70,28 @@ def main():
     print(f"the study's sweep [EST]: {total / 60:.1f} worker-minutes, "
           f"{total / workers / efficiency / 60:.1f} min of wall on {workers} workers at "
           f"{efficiency:.2f}")
+    if args.resolve:
+        resolved_cost(args, study, sample)
+
+
+def resolved_cost(args, study, sample):
+    """The sample's runs' CPU time plain and resolving their events locally, alternately."""
+    from drake_car.study.design.resolved_runs import resolving
+    plain = {n: s for n, (_, s) in sample.items()}
+    resolved = {n: resolving(study, s) for n, s in plain.items()}
+    cpu = {"plain": collections.defaultdict(float), "resolved": collections.defaultdict(float)}
+    with cli.cluster_client(args, 2 * len(sample)) as client:
+        for label, scenes in (("plain", plain), ("resolved", resolved)):
+            for name, run in run_scenes(scenes, client=client).items():
+                cpu[label][sample[name][0]] += run.cpu_s
+    for role in cpu["plain"]:
+        print(f"  {role:10s} CPU of the runs: {cpu['plain'][role]:7.1f} s plain, "
+              f"{cpu['resolved'][role]:7.1f} s resolved: "
+              f"{cpu['resolved'][role] / cpu['plain'][role]:.2f} x")
+    total_plain, total_resolved = sum(cpu["plain"].values()), sum(cpu["resolved"].values())
+    print(f"  all: {total_plain:.1f} s plain, {total_resolved:.1f} s resolved: "
+          f"{total_resolved / total_plain:.2f} x (the runs' CPU; the study's start-up and "
+          "analysis come on top of both)")
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@ from drake_car.scene.load import parse_scene_option
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import OutputError, check_output_target, output_folder
 from drake_car.study.design import jam_cases
+from drake_car.study.design import resolved_runs as design_local
 from drake_car.study.design import analysis as design_analysis
 from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as runs_of
@@ -50,6 +51,10 @@ def main(argv=None):
     p.add_argument("--quick", action="store_true", help="a smoke run of every part")
     p.add_argument("--rerun_failed", action="store_true",
                    help="run the failed runs again (a rerun reuses them otherwise)")
+    p.add_argument("--refine", choices=("local", "global"), default="local",
+                   help="accuracy on demand: every run with dry friction resolves its events "
+                        "locally (local), or the jam cases are halved whole (global) "
+                        "(default: %(default)s)")
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: the jam cases at the study's step only, every "
                    "error the half-step noise sample's (the spec's accuracy section says which "
@@ -65,11 +70,15 @@ def main(argv=None):
                      for name, (scene, values) in runs_of.map_scenes(study).items()},
              "line": runs_of.line_scenes(study), "sobol": runs_of.sobol_scenes(study),
              "mc": runs_of.monte_carlo_scenes(study), "mitigation": runs_of.mitigation_scenes(study)}
+    if args.refine == "local" and not args.no_verify:  # every dry run resolves its events
+        parts = {role: {name: (design_local.resolving(study, scene), values)
+                        for name, (scene, values) in part.items()}
+                 for role, part in parts.items()}
     named = {name: entry for part in parts.values() for name, entry in part.items()}
     parts["noise"] = runs_of.noise_scenes(study, named, runs_of.noise_sample(study, parts))
     named |= parts["noise"]
     sweep_dir = args.out / "sweep"
-    jam = {} if args.no_verify else jam_cases.jam_scenes(study, parts)
+    jam = {} if args.no_verify or args.refine == "local" else jam_cases.jam_scenes(study, parts)
     with cli.cluster_client(args, len(named)) as client:
         sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, sweep_dir,
                           client=client, rerun_failed=args.rerun_failed)
@@ -85,10 +94,15 @@ def main(argv=None):
                                                        rerun_failed=args.rerun_failed))
     rows = design_analysis.table(study, parts, sweep_dir)
     noise = design_tables.noise_levels(rows, exclude=set(jam))
-    jam_cases.apply(rows, refined, noise)
+    local = args.refine == "local" and not args.no_verify
+    if local:
+        design_local.apply_local(rows, study, noise)
+    else:
+        jam_cases.apply(rows, refined, noise)
     with output_folder(args.out / "study") as out:
         summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began,
-                                          noise, jam_cases.summary(refined, rows, study))
+                                          noise, design_local.summary(rows, study) if local
+                                          else jam_cases.summary(refined, rows, study))
         summary["scene_text"] = args.scene_text or None
         write_csv(out / "table.csv", {k: [row[k] for row in rows] for k in rows[0]})
         write_json(out / "summary.json", summary)

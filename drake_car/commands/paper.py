@@ -16,7 +16,10 @@ scenes/paper_study.yaml. Writes into DIR:
                           steps_tried_s, values_by_step, run_wall_s, solver_error, limited_by;
                           the report, summary.json and load_split.png read it
 
-Accuracy on demand (skip it with --no_verify): every run is repeated at dt/2 and dt/4, and the
+Accuracy on demand (skip it with --no_verify), --refine local (the default): the runs with dry
+friction resolve their near-threshold stick-slip events locally (``sim.resolve``: windows
+re-run at halved steps until their outcome no longer changes; ``study.paper.local_route``), the
+others are refined globally; --refine global: every run is repeated at dt/2 and dt/4, and the
 runs whose deciding outcomes have not converged within their tolerances
 (``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
 a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
@@ -51,10 +54,10 @@ from drake_car.study.paper.figures import all_figures
 from drake_car.study.paper.claims import (
     check_study_scenes, evaluate_claims, friction_of, study_columns, study_runs)
 from drake_car.study.paper.outcomes import (
-    DRIVES, at_one_step, outcomes_of_runs, read_outcomes, study_outcomes, tolerances,
-    write_outcomes)
+    at_one_step, read_outcomes, study_outcomes, write_outcomes)
+from drake_car.study.paper.local_route import accurate_runs
 from drake_car.study.paper.report import report, summary
-from drake_car.sweep.refine import halved, loosened, refine
+from drake_car.sweep.refine import halved, loosened
 from drake_car.sweep.runner import run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
@@ -68,6 +71,10 @@ def main(argv=None):
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: every run at its scene's step only, no "
                         "numerical error estimated")
+    p.add_argument("--refine", choices=("local", "global"), default="local",
+                   help="accuracy on demand by resolving the dry runs' events locally (local), "
+                        "or by halving every run's whole step (global, the reference) "
+                        "(default: %(default)s)")
     p.add_argument("--finest_step_s", type=cli.positive("--finest_step_s"), default=3.125e-5,
                    help="the finest step accuracy on demand may try (default: %(default)g)")
     p.add_argument("--budget_s", type=cli.positive("--budget_s"), default=1800.0,
@@ -116,22 +123,18 @@ def main(argv=None):
                     row["steps_s"] = [scenes[name.split("|")[0]].plant.time_step]
                     row["step_s"] = row["steps_s"][0]
                 run_wall, refinement = {n: r.wall_s for n, r in runs.items()}, None
+                run_cpu = {n: r.cpu_s for n, r in runs.items()}
             else:
-                refined = refine(scenes, outcomes_of_runs(roles, timeline), tolerances(),
-                                 simulate, finest_step_s=args.finest_step_s,
-                                 budget_s=args.budget_s, drives=DRIVES, first_extra=locked,
-                                 halve=_unseen_halved,
-                                 solver_twin=None if args.no_solver_axis else _unseen_loosened)
-                runs = refined.runs[0]
-                locked_runs = {name: refined.runs["extra"][name + PAPER_DRIVE]
-                               for name in scenes if locked}
-                table = refined.outcomes
-                run_wall = {n: refined.run_wall_s(n) for n in scenes}
-                refinement = {"rounds": refined.rounds, "wall_s": refined.wall_s,
-                              "stopped": refined.stopped,
-                              "finest_step_s": refined.finest_step_s(),
-                              "steps_s": refined.steps_s}
-        write_outcomes(out / "outcomes.csv", table, run_wall)
+                done = accurate_runs(scenes, roles, timeline, simulate, route=args.refine,
+                                     extra=locked, halve=_unseen_halved,
+                                     finest_step_s=args.finest_step_s, budget_s=args.budget_s,
+                                     solver_twin=None if args.no_solver_axis
+                                     else _unseen_loosened)
+                runs, table, refinement = done.runs, done.outcomes, done.refinement
+                locked_runs = {name: done.extra[name + PAPER_DRIVE] for name in scenes
+                               if locked}
+                run_wall, run_cpu = done.run_wall_s, done.run_cpu_s
+        write_outcomes(out / "outcomes.csv", table, run_wall, run_cpu)
         outcomes = read_outcomes(out / "outcomes.csv")  # what the report and figures read
         study = study_runs(runs)
         claims, shifts = evaluate_claims(study, timeline)
@@ -154,6 +157,8 @@ def main(argv=None):
                     wall_s=time.perf_counter() - began, provenance=provenance(),
                     replay=replayed)
         s["cpu_s"] = _cpu_s()
+        if refinement is not None:
+            refinement["job_cpu_s"] = s["cpu_s"]
         s["paper_drive"] = paper_drive
         write_json(out / "summary.json", s)
         (out / "report.md").write_text(report(s))

@@ -166,19 +166,23 @@ def strut_overlap(car: CarModel, context, side):
     return car.params.front.guide_length_l_m - prismatic.get_translation(context)
 
 
+def loop_closure_frames(car: CarModel):
+    """The frame pairs whose origins the ball-joint and tie-rod ball constraints join (the
+    constraints ``add_car`` adds, in their order)."""
+    plant = car.plant
+    return [(plant.GetFrameByName(a.format(side=side), car.instance),
+             plant.GetFrameByName(b.format(side=side), car.instance))
+            for side in SIDES for a, b in LOOP_CLOSURES]
+
+
 def loop_closure_error(car: CarModel, plant_context):
     """Largest distance (m) between the points the ball-joint and tie-rod constraints join."""
     plant, world = car.plant, car.plant.world_frame()
     worst = 0.0
-    for side in SIDES:
-        for a, b in LOOP_CLOSURES:
-            pa = plant.CalcPointsPositions(
-                plant_context, plant.GetFrameByName(a.format(side=side), car.instance),
-                np.zeros(3), world)
-            pb = plant.CalcPointsPositions(
-                plant_context, plant.GetFrameByName(b.format(side=side), car.instance),
-                np.zeros(3), world)
-            worst = max(worst, float(np.linalg.norm(pa - pb)))
+    for frame_a, frame_b in loop_closure_frames(car):
+        pa = plant.CalcPointsPositions(plant_context, frame_a, np.zeros(3), world)
+        pb = plant.CalcPointsPositions(plant_context, frame_b, np.zeros(3), world)
+        worst = max(worst, float(np.linalg.norm(pa - pb)))
     return worst
 
 

@@ -135,11 +135,15 @@ def parse_csv(text):
 
 def write_run(run, folder, *, diagram=True):
     """A run's own files: history.csv, scene.yaml (the scene as it ran), run.json (how it went,
-    provenance), diagram.svg and replay.html when there is one."""
+    provenance; its stick-slip events and their resolution), events.csv (the events, one row
+    each, when the scene has strut friction), diagram.svg and replay.html when there is one."""
     folder = Path(folder)
     for name, text in run_texts(run).items():
         if name != "diagram.dot":
             write_text(folder / name, text)
+    if getattr(run, "events", None):
+        write_csv(folder / "events.csv", {k: v for k, v in run.events.items()
+                                          if isinstance(v, list)})
     if diagram:
         write_diagram_svg(run.diagram_dot, folder / "diagram.svg")
 

@@ -43,7 +43,8 @@ def run_from_texts(texts, where="run", *, trusted=False):
                    first_frozen_sap_step_s=record["first_frozen_sap_step_s"],
                    steps=record["steps"], final=final, diagram_dot=texts["diagram.dot"],
                    replay_html=texts.get("replay.html"),
-                   cpu_s=record.get("cpu_s", float("nan")))
+                   cpu_s=record.get("cpu_s", float("nan")), events=record.get("events"),
+                   resolution=record.get("resolution"))
     except SceneError as e:
         raise OutputError(str(e)) from None
     except (ValueError, KeyError, TypeError, IndexError) as e:

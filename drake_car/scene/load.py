@@ -259,6 +259,14 @@ def _check_cross(scene: Scene):
     if scene.logging.record_period_s > end:
         raise ParameterError("logging.record_period_s", scene.logging.record_period_s,
                              f"must be <= the run's {end:g} s")
+    if sim.resolve_events is not None and scene.friction is None:
+        raise ParameterError("simulator.resolve_events", "set", "has nothing to resolve: the "
+                             "scene has no strut friction (friction: null); leave it out")
+    if sim.resolve_events is not None and sim.resolve_events.finest_step_s > (
+            scene.time_step_s / 2 * (1 + 1e-9)):
+        raise ParameterError("simulator.resolve_events.finest_step_s",
+                             sim.resolve_events.finest_step_s,
+                             f"must be <= half of plant.time_step = {scene.time_step_s:g} s")
     if sim.monitor_period_s < scene.time_step_s:
         raise ParameterError("simulator.monitor_period_s", sim.monitor_period_s,
                              f"must be >= plant.time_step = {scene.time_step_s:g} s")

@@ -218,6 +218,39 @@ Manoeuvre = typing.Union[(*typing.get_args(manoeuvres.Manoeuvre), *PATH_MANOEUVR
 
 
 @dataclasses.dataclass
+class ResolveEvents:
+    """Stick-slip events resolved locally (``sim.resolve``): where a friction pair of the struts
+    (``pairs``: translation, the rods' sliding, which decides where they rest; or all, rotation
+    too) has an event whose outcome the step can decide (the pair reached its full static
+    friction, or crossed the static band in more than one step), the run resolves a window
+    around it at halved steps until the window's outcome (each pair's slips and sticks, where
+    it rests: within ``position_tolerance_m``, or ``angle_tolerance_rad`` for rotation, and how
+    close each came to breaking away) no longer changes with a further halving, down to
+    ``finest_step_s``, and goes on at its own step from the finest window's end. A window
+    starts ``lead_s`` before its event, and before every slip of the pairs that ended within
+    ``lookback_s`` before it (they set the loads it is decided by); it ends once every pair
+    has been static, short of its full creep, for ``hold_s``."""
+
+    pairs: str = "translation"
+    finest_step_s: float = 3.125e-5
+    position_tolerance_m: float = 2e-5
+    angle_tolerance_rad: float = 1e-4
+    lookback_s: float = 0.5
+    lead_s: float = 0.05
+    hold_s: float = 0.05
+
+    def check(self):
+        one_of(self, "pairs", ("translation", "all"))
+        positive(self, "finest_step_s", "position_tolerance_m", "angle_tolerance_rad",
+                 "lead_s", "hold_s")
+        nonnegative(self, "lookback_s")
+        if self.lookback_s > 5.0:
+            raise ParameterError("lookback_s", self.lookback_s,
+                                 "must be <= 5 s (a window is run at every halving)")
+        return self
+
+
+@dataclasses.dataclass
 class Simulator:
     """``end_time_s``: None runs the whole manoeuvre; a value stops earlier. ``start``:
     static_equilibrium (at rest where the lubricated car settles on its tyres, as a multibody
@@ -230,6 +263,8 @@ class Simulator:
     how often the divergence monitor checks the state. ``airborne_limit_s``: how long all four
     wheels may stay off a flat road before the monitor stops the run (``sim.monitor``: 0.2 s is
     a ballistic hop of g T² / 8 = 5 cm, which no drive on a flat road makes).
+    ``resolve_events``: resolve the struts' stick-slip events locally (``ResolveEvents``;
+    None: the whole run at its step).
     ``sap_tolerance_factor``: SAP's relative stopping tolerance (Drake's 1e-6, not settable from
     Python) loosened by this factor wherever the car's motion sets SAP's momentum scale, by a
     decoupled ballast (``systems.sap_ballast``); 1 adds none. The error budget's solver axis
@@ -242,11 +277,14 @@ class Simulator:
     sap_pacer: bool = True
     monitor_period_s: float = 0.01
     airborne_limit_s: float = 0.2
+    resolve_events: typing.Optional[ResolveEvents] = None
     sap_tolerance_factor: float = 1.0
 
     def check(self):
         if self.end_time_s is not None:
             positive(self, "end_time_s")
+        if self.resolve_events is not None:
+            checked(self.resolve_events, "resolve_events")
         one_of(self, "start", ("static_equilibrium", "design"))
         positive(self, "equilibrium_settle_s", "monitor_period_s", "airborne_limit_s")
         if self.equilibrium_time_step_s is not None:
@@ -317,6 +355,15 @@ class MeshcatReplay:
 
 
 Visualization = typing.Union[NoVisualization, MeshcatLive, MeshcatReplay]
+
+
+def at_time_step(scene, time_step_s):
+    """``scene`` with its plant's time step set to ``time_step_s`` (the rest as it is)."""
+    plant = scene.plant
+    config = MultibodyPlantConfig(**{f.name: getattr(plant, f.name)
+                                     for f in MultibodyPlantConfig.__fields__})
+    config.time_step = time_step_s
+    return dataclasses.replace(scene, plant=config)
 
 
 def default_plant_config():

@@ -74,6 +74,9 @@ def simulate_family(scenes: list, *, progress=False):
     saved = first.root.Clone()
     prefix_stats, prefix_last_v = copy.copy(first.monitor.stats), first.monitor.last_velocities
     prefix_wall, prefix_cpu = first.wall_s, first.cpu_s
+    # The prefix's events and resolved windows (sim.resolve) are every run's.
+    prefix_events = (list(first.events), first.event_count, first.events_lost)
+    prefix_windows = first.resolver.export() if first.resolver is not None else None
     first.advance_to(scenes[0].end_time_s)
     runs = [first.finish()]
     for scene in scenes[1:]:
@@ -85,6 +88,10 @@ def simulate_family(scenes: list, *, progress=False):
         runner.built.velocity_logger.FindMutableLog(runner.root).Clear()
         runner.monitor.resume(prefix_stats, prefix_last_v)
         runner.wall_s, runner.cpu_s = prefix_wall, prefix_cpu
+        runner.events, runner.event_count, runner.events_lost = (
+            list(prefix_events[0]), prefix_events[1], prefix_events[2])
+        if runner.resolver is not None:
+            runner.resolver.adopt(prefix_windows)
         runner.advance_to(scene.end_time_s)
         runs.append(runner.finish())
     return runs

@@ -113,6 +113,19 @@ class Monitor:
         self.stats = dataclasses.replace(stats)
         self._last_v = last_velocities
 
+    def snapshot(self):
+        """What the monitor carries from one check to the next (energy account, airborne
+        time, the last step's velocities): ``sim.resolve`` runs a window from a saved state
+        and hands the state back."""
+        return (None if self._energy is None else list(self._energy), self._airborne_since,
+                self.last_velocities)
+
+    def restore(self, snapshot):
+        energy, airborne, last_v = snapshot
+        self._energy = None if energy is None else list(energy)
+        self._airborne_since = airborne
+        self._last_v = None if last_v is None else last_v.copy()
+
     def check(self, root_context):
         """Counts the frozen steps since the last check, then checks the state."""
         if self._logger is not None:

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from drake_car.law.friction.events import EVENT_FIELDS, KIND_NAMES
 from drake_car.model.car import loop_closure_error, strut_overlap
 from drake_car.model.geometry import SIDES, design_axle_loads_N
 from pydrake.common.yaml import yaml_load_typed
@@ -22,7 +23,8 @@ from drake_car.sim.build import build_diagram
 from drake_car.sim.driver_wiring import manoeuvre_outcome
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
-from drake_car.sim.simulation import Runner
+from drake_car.sim.resolve import Resolver
+from drake_car.sim.simulation import Runner, logged_history
 from drake_car.systems.tyre import WHEELS
 
 log = logging.getLogger(__name__)
@@ -48,6 +50,8 @@ class Run:
     diagram_dot: str
     replay_html: str | None = None
     cpu_s: float = math.nan  # CPU seconds of the simulation loop (this process, all threads)
+    events: dict | None = None  # the friction pairs' stick-slip events (``event_columns``)
+    resolution: dict | None = None  # what the local resolution of events did (``sim.resolve``)
 
     def __getstate__(self):
         # Drake's configs do not pickle: a Run travels (to and from sweep workers) with its
@@ -82,7 +86,8 @@ class Run:
                 "real_time_factor": float(self.history["t"][-1]) / max(self.wall_s, 1e-9),
                 "steps": self.steps, "frozen_sap_steps": self.frozen_sap_steps,
                 "first_frozen_sap_step_s": self.first_frozen_sap_step_s,
-                "final": {k: v for k, v in self.final.items() if k != "positions"}}
+                "final": {k: v for k, v in self.final.items() if k != "positions"},
+                "events": self.events, "resolution": self.resolution}
 
 
 def estimate_wall_s(scene: Scene):
@@ -131,6 +136,12 @@ class SceneRunner(Runner):
                                         else 0.0))
         if built.case_port is not None:
             built.select_case(self.root, scene.manoeuvre.case)
+        # The friction's stick-slip events read after every chunk: (row, step, window) with row
+        # in law.friction.events.EVENT_FIELDS and window the resolution window (-1: none).
+        self.events, self.event_count, self.events_lost, self.last_rows = [], 0, 0, []
+        self.resolver = None
+        if scene.simulator.resolve_events is not None and built.friction is not None:
+            self.resolver = Resolver(self, make_runner=SceneRunner)
 
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
@@ -141,6 +152,42 @@ class SceneRunner(Runner):
             log.info("%s: %g s at %g s steps, about %.0f min of wall time", self.scene.name,
                      self.scene.end_time_s, self.scene.time_step_s, estimate / 60)
         super().start()
+
+    def checked(self):
+        """After a chunk: the monitor's checks, the replay's frame, the chunk's events."""
+        super().checked()
+        friction = self.built.friction
+        if friction is None:
+            return
+        rows, self.event_count, lost = friction.events(friction.GetMyContextFromRoot(self.root),
+                                                       self.event_count)
+        self.events_lost += lost
+        step = self.scene.time_step_s
+        self.events.extend((row, step, -1) for row in rows)
+        self.last_rows = rows
+
+    def before_chunk(self):
+        if self.resolver is not None:
+            self.resolver.before_chunk()
+
+    def after_chunk(self, end):
+        if self.resolver is not None:
+            self.resolver.after_chunk(self.last_rows, end)
+
+    def history(self):
+        """The run's columns, each resolved window's from its resolving level."""
+        logged = logged_history(self.built, self.root)
+        if self.resolver is not None:
+            logged = self.resolver.spliced_history(logged)
+        return self.built.history(logged)
+
+    def event_table(self):
+        """The run's events as columns (``event_columns``); None without friction."""
+        friction = self.built.friction
+        if friction is None:
+            return None
+        return event_columns(self.events, friction.pair_names(),
+                             friction.threshold_velocities(), self.events_lost)
 
     def finish(self) -> Run:
         result = self.result()
@@ -153,7 +200,26 @@ class SceneRunner(Runner):
                    frozen_sap_steps=result.frozen_sap_steps,
                    first_frozen_sap_step_s=result.first_frozen_sap_step_s, steps=result.steps,
                    final=final, diagram_dot=result.diagram_dot, replay_html=html,
-                   cpu_s=result.cpu_s)
+                   cpu_s=result.cpu_s, events=self.event_table(),
+                   resolution=None if self.resolver is None else self.resolver.record())
+
+
+def event_columns(events, pair_names, dv, lost=0):
+    """(row, step, window) triples as JSON-ready columns: ``law.friction.events``'
+    EVENT_FIELDS, the pair and kind by name, ``band_steps`` (Δv over the step's velocity
+    change: how many steps of that change the static band is wide), the step that saw the
+    event, the window that resolved it (-1: none); and ``lost``, the events the bounded log
+    lost (a count, not a column)."""
+    rows = [row for row, _, _ in events]
+    table = {field: [float(row[k]) for row in rows] for k, field in enumerate(EVENT_FIELDS)}
+    table["pair"] = [pair_names[int(row[1])] for row in rows]
+    table["kind"] = [KIND_NAMES[float(row[2])] for row in rows]
+    table["band_steps"] = [float(dv[int(row[1])] / abs(row[4])) if row[4] else math.inf
+                           for row in rows]
+    table["step_s"] = [float(step) for _, step, _ in events]
+    table["window"] = [int(window) for _, _, window in events]
+    table["lost"] = int(lost)
+    return table
 
 
 def static_equilibrium(scene: Scene) -> Equilibrium:

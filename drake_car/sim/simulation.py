@@ -107,29 +107,49 @@ class Runner:
         return self
 
     def advance_to(self, end):
+        """Runs to ``end`` in the monitor's chunks; ``before_chunk`` and ``after_chunk`` (no-ops
+        here) act between chunks (the car's runner: its stick-slip events, ``sim.resolve``)."""
         period = self.built.monitor_period_s
         now = self.root.get_time()
-        first = int(np.floor(now / period + 1e-9)) + 1
-        last = max(first, int(np.ceil(end / period - 1e-9)))
         bar = progress_bar(self.built.name, self.end_time_s, now) if self.progress else None
         began, cpu_began = time.perf_counter(), time.process_time()
         try:
             with deferred_signals() as caught:
-                for k in range(first, last + 1):
-                    target = min(k * period, end)
+                while True:
+                    target = min((np.floor(now / period + 1e-9) + 1) * period, end)
+                    self.before_chunk()
                     self.simulator.AdvanceTo(target)
                     if caught:
                         break
-                    self.monitor.check(self.root)
-                    if self.recorder is not None:
-                        self.recorder.frame(self.root)
+                    self.checked()
+                    self.after_chunk(end)
+                    now = self.root.get_time()
                     if bar is not None:
-                        bar.update(target - bar.n)
+                        bar.update(now - bar.n)
+                    if now >= end - 1e-12:
+                        break
         finally:
             self.wall_s += time.perf_counter() - began
             self.cpu_s += time.process_time() - cpu_began
             if bar is not None:
                 bar.close()
+
+    def step_chunk(self, target):
+        """Advances to ``target`` and checks there (one chunk, without the hooks)."""
+        self.simulator.AdvanceTo(target)
+        self.checked()
+
+    def checked(self):
+        """After a chunk: the monitor's checks, the recorder's frame."""
+        self.monitor.check(self.root)
+        if self.recorder is not None:
+            self.recorder.frame(self.root)
+
+    def before_chunk(self):
+        pass
+
+    def after_chunk(self, end):
+        pass
 
     def history(self):
         """The run's columns (the simulation's own, from its loggers)."""

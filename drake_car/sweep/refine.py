@@ -48,12 +48,8 @@ NOISE = 0.1  # of the tolerance: differences this small need not shrink
 
 def halved(scene, halvings=1):
     """``scene`` with its plant's time step divided by 2**halvings (the rest as it is)."""
-    from pydrake.multibody.plant import MultibodyPlantConfig
-    plant = scene.plant
-    config = MultibodyPlantConfig(**{f.name: getattr(plant, f.name)
-                                     for f in MultibodyPlantConfig.__fields__})
-    config.time_step = plant.time_step / 2 ** halvings
-    return dataclasses.replace(scene, plant=config)
+    from drake_car.scene.scene import at_time_step
+    return at_time_step(scene, scene.plant.time_step / 2 ** halvings)
 
 
 def loosened(scene, factor=2.0):

@@ -93,9 +93,11 @@ from pydrake.multibody.math import SpatialForce
 from pydrake.multibody.tree import PdControllerGains, PrismaticJoint, RevoluteJoint
 from pydrake.systems.framework import LeafSystem
 
-from drake_car.law.friction.compiled import friction_step, pack_pair, pack_strut
+from drake_car.law.friction.compiled import P, friction_step, pack_pair, pack_strut
+from drake_car.law.friction.events import log_size, note_transitions
 from drake_car.law.friction.frd import STATIC, StrutFrictionParameters
 from drake_car.systems.failure import SimulationFailure
+from drake_car.systems.friction_state import FrictionStateAccess
 from drake_car.systems.friction_pairs import Strut
 
 SCHEMES = ("fast", "reference")
@@ -138,7 +140,7 @@ class _StrutData:
                               mirrored=bool(strut.mirrored))
 
 
-class StrutFriction(LeafSystem):
+class StrutFriction(FrictionStateAccess, LeafSystem):
     """FRD friction on the pairs of one or more struts (translation on a prismatic joint,
     rotation on a revolute joint about the same axis). One system serves all struts of a car:
     the plant's state and reactions are read once per step for all of them.
@@ -211,6 +213,19 @@ class StrutFriction(LeafSystem):
         self._strut_rows = np.array([s.row for s in self._struts])
         self._no_reactions = np.zeros((len(self._struts), 6))
         n = len(self._pairs)
+        # What the event log needs of each pair (law.friction.events): its velocity's and
+        # position's entries in [q; v], Δv, and (μs, arm, preload) of its static capacity.
+        rows = self._pair_rows
+        self._v_index = rows[:, P.V_INDEX].astype(np.int64)
+        self._q_index_array = rows[:, P.Q_INDEX].astype(np.int64)
+        self._dv = rows[:, P.DV].copy()
+        self._dmax = rows[:, P.DMAX].copy()
+        rotation = rows[:, P.ROTATION] != 0.0
+        self._capacity_scale = np.column_stack([
+            rows[:, P.MU_S], np.where(rotation, rows[:, P.ROD_RADIUS], 1.0),
+            np.where(rotation & (rows[:, P.PRELOAD_MOMENT] > 0),
+                     rows[:, P.PRELOAD_MOMENT] / np.where(rows[:, P.STRUT_MU_S] > 0,
+                                                          rows[:, P.STRUT_MU_S], 1.0), 0.0)])
         self._dt = plant.time_step()
 
         self._state_port = self.DeclareVectorInputPort(
@@ -227,6 +242,8 @@ class StrutFriction(LeafSystem):
         self._memory = self.DeclareDiscreteState(3 * n)
         self._actuation = self.DeclareDiscreteState(n)
         self._diagnostics = self.DeclareDiscreteState(len(DIAGNOSTIC_FIELDS) * n)
+        # The stick-slip event log (law.friction.events: a bounded ring, read by the runner).
+        self._events = self.DeclareDiscreteState(log_size(n))
         self._desired = self._gain_values = None
         if scheme == "fast":
             self._desired = self.DeclareDiscreteState(2 * n)
@@ -277,12 +294,24 @@ class StrutFriction(LeafSystem):
         memory[:n] = 0.0
         memory[n:2 * n] = STATIC
         memory[2 * n:] = x[self._q_index]
+        log = discrete_state.get_mutable_value(self._events)
+        log[:] = 0.0
+        log[1 + n:1 + 2 * n] = -1.0  # no reserve at full creep yet
         self._compute(context, discrete_state, x, context.get_time(), initial=True)
 
     def _update(self, context, discrete_state):
-        # The plant has stepped: x is x_{k+1}, at time t + dt.
-        self._compute(context, discrete_state, self._state_port.Eval(context),
-                      context.get_time() + self._dt, initial=False)
+        # The plant has stepped: x is x_{k+1}, at time t + dt. Its transitions are noted
+        # first, from the values the step used (still in discrete_state).
+        x = self._state_port.Eval(context)
+        t = context.get_time() + self._dt
+        value = discrete_state.get_mutable_value
+        fast = self._scheme == "fast"
+        note_transitions(t, x, self._v_index, self._q_index_array, self._dv, self._dmax,
+                         self._capacity_scale, value(self._memory), value(self._diagnostics),
+                         fast, value(self._actuation),
+                         value(self._desired) if fast else _NONE,
+                         value(self._gain_values) if fast else _NONE, value(self._events))
+        self._compute(context, discrete_state, x, t, initial=False)
 
     def _compute(self, context, discrete_state, x, t, initial):
         """Advances the creep memory (in ``discrete_state``) to the plant state ``x`` and

@@ -5,6 +5,7 @@ Monte Carlo and mitigations, the numerical noise), with the figures written besi
 import math
 
 from drake_car.results.provenance import provenance
+from drake_car.study.design.resolved_runs import resolution_fields
 from drake_car.study.design import figures
 from drake_car.study.design import report
 from drake_car.study.design import runs as runs_of
@@ -27,9 +28,10 @@ def table(study, parts, sweep_dir):
             row |= {k: value_of(scene, k) for k in keys}
             row |= {"sample": values.get("sample", ""), "mitigation": values.get("mitigation", ""),
                     "line": values.get("line", ""), "of": values.get("of", "")}
-            result = (outcomes(load_run(sweep_dir, key)[1].history, scene, study)
-                      if status == "ok" else {k: math.nan for k in OUTCOMES})
-            rows.append(row | result)
+            run = load_run(sweep_dir, key)[1] if status == "ok" else None
+            result = (outcomes(run.history, scene, study) if run is not None
+                      else {k: math.nan for k in OUTCOMES})
+            rows.append(row | result | resolution_fields(run))
     return rows
 
 

@@ -6,6 +6,7 @@ import math
 import numpy as np
 
 from drake_car.study.design.jam_cases import report_lines
+from drake_car.study.design.resolved_runs import report_lines as local_report_lines
 from drake_car.study.design.spec import factor, paper_value
 from drake_car.study.design.tables import map_grid
 
@@ -39,7 +40,7 @@ def report(s, figures=""):
              f"{s['wall_s'] / 60:.1f} min wall (the sweep "
              f"{s['runs'].get('sweep_wall_s', math.nan) / 60:.1f} min"
              + (f", accuracy on demand {s['accuracy']['wall_s'] / 60:.1f} min"
-                if s.get("accuracy") else "") + ")"
+                if (s.get("accuracy") or {}).get("wall_s") is not None else "") + ")"
              + (" (the dirty checkout's files, not the commit's)"
                 if s['provenance'].get('dirty') else "") + ".", "",
              "## The question and the answer", "",
@@ -100,7 +101,9 @@ def report(s, figures=""):
                      f"{_pct(pu.get('share_above'))} | "
                      + (f"{pa['median']:+.2f} / {_pct(pa['share_lower'])}" if pa.get("n")
                         else "-") + f" | {m.get('not_converged', 0)} |")
-    lines += [""] + report_lines(s.get("accuracy"), figures)
+    acc = s.get("accuracy")
+    lines += [""] + (local_report_lines(acc) if (acc or {}).get("route") == "local"
+                     else report_lines(acc, figures))
     lines += ["## Numerical noise", "",
               f"{s['noise']['pairs']} runs repeated at half the step; the largest change of "
               "each outcome, the error of every run not refined (the Sobol sample's and the "

@@ -62,6 +62,7 @@ def claim_measures(table: dict, roles: dict):
                "error": None if None in errors else max(errors) + threshold_error,
                "converged": None if None in converged else all(converged),
                "steps_s": row["steps_s"], "values": row["values"],
+               "route": row.get("route"), "finest_step_s": row.get("finest_step_s"),
                "limited_by": worst.get("limited_by")}
         return _judged(out)
 

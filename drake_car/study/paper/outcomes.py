@@ -50,7 +50,11 @@ TOLERANCES = {
 DRIVES = {k for k, v in TOLERANCES.items() if v[2]}
 COLUMNS = ("run", "outcome", "value", "error", "unit", "step_s", "converged", "tolerance",
            "observed_order", "steps_tried_s", "values_by_step", "run_wall_s", "solver_error",
-           "limited_by")
+           "limited_by", "route", "windows", "events_resolved", "finest_step_s",
+           "resolution_cpu_s", "run_cpu_s")
+# How an outcome was made accurate: its run's whole step halved (global, ``sweep.refine``),
+# its events resolved locally (local, ``study.paper.local_route``), or one step (none).
+ROUTES = ("global", "local", "none")
 
 
 def study_outcomes(columns: dict, roles: dict, timeline):
@@ -120,13 +124,19 @@ def at_one_step(values: dict, step_s=None):
             for k, (value, unit) in values.items()}
 
 
-def write_outcomes(path, outcomes: dict, run_wall_s=None):
+def write_outcomes(path, outcomes: dict, run_wall_s=None, run_cpu_s=None):
     """``outcomes.csv``: one row per run (or pair) and outcome, in ``COLUMNS``; converged is
-    yes, no or "-" (not judged: a single step); the steps tried and the values at each are
-    ";"-joined; solver_error is the solver axis' (``sweep.refine``; nan without one) and
-    limited_by the axis whose error is the larger ("-" without an error)."""
+    yes, no or "-" (not judged: a single step, or an outcome the local route gives no error);
+    the steps tried and the values at each are ";"-joined; solver_error is the solver axis'
+    (``sweep.refine``; nan without one) and limited_by the axis whose error is the larger ("-"
+    without an error); how it was made accurate (``ROUTES``) and, locally, the windows, the
+    events in them, the finest step a window used and the windows' CPU time; the runs'
+    simulation wall and CPU time (all steps tried)."""
     rows = sorted(outcomes.items())
-    wall = run_wall_s or {}
+    wall, cpu = run_wall_s or {}, run_cpu_s or {}
+
+    def num(value):
+        return float("nan") if value is None else float(value)
     columns = {
         "run": [s for (s, _), _ in rows], "outcome": [o for (_, o), _ in rows],
         "value": [float(r["value"]) for _, r in rows],
@@ -145,7 +155,16 @@ def write_outcomes(path, outcomes: dict, run_wall_s=None):
                        for (s, _), _ in rows],
         "solver_error": [float("nan") if r.get("solver_error") is None
                          else float(r["solver_error"]) for _, r in rows],
-        "limited_by": [r.get("limited_by") or "-" for _, r in rows]}
+        "limited_by": [r.get("limited_by") or "-" for _, r in rows],
+        "route": [r.get("route", "global" if r["converged"] is not None else "none")
+                  for _, r in rows],
+        "windows": [int(r.get("windows", 0)) for _, r in rows],
+        "events_resolved": [int(r.get("events_resolved", 0)) for _, r in rows],
+        "finest_step_s": [num(r.get("finest_step_s", min(
+            (x for x in r["steps_s"] if x is not None), default=None))) for _, r in rows],
+        "resolution_cpu_s": [num(r.get("resolution_cpu_s")) for _, r in rows],
+        "run_cpu_s": [float(sum(cpu.get(n, float("nan")) for n in s.split("|")))
+                      for (s, _), _ in rows]}
     assert tuple(columns) == COLUMNS
     write_csv(path, columns)
 
@@ -169,4 +188,10 @@ def read_outcomes(path):
             "values": [float(v) for v in values.split(";") if v],
             "run_wall_s": num("run_wall_s"), "solver_error": num("solver_error"),
             "limited_by": None if c["limited_by"][i] == "-" else str(c["limited_by"][i])}
+        if "route" in c:  # written since the local route (older files: global or one step)
+            out[(subject, outcome)] |= {
+                "route": c["route"][i], "windows": int(float(c["windows"][i])),
+                "events_resolved": int(float(c["events_resolved"][i])),
+                "finest_step_s": num("finest_step_s"),
+                "resolution_cpu_s": num("resolution_cpu_s"), "run_cpu_s": num("run_cpu_s")}
     return out

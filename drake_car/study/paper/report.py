@@ -11,6 +11,7 @@ at the finest step tried"."""
 import dataclasses
 import math
 
+from drake_car.study.paper.local_route import error_method, local_error, resolution_section
 from drake_car.study.paper.measures import claim_measures, verdict
 from drake_car.study.paper.claims import (
     DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, run_of)
@@ -98,6 +99,8 @@ def _threshold(m):
 def _error(row):
     """A measure's numerical error as the report writes it: "±e" where converged, "not
     converged" with the values at each step where not."""
+    if row.get("route") == "local":
+        return local_error(row, quantity(row["error"] or 0.0, row["unit"], error=True))
     if row["error"] is None:
         return "not estimated (--no_verify: one step only)"
     if not row["converged"]:
@@ -173,6 +176,7 @@ def report(s):
     lines += _numbers_table(s)
     lines += _disagreements(s)
     lines += _paper_drive(s)
+    lines += resolution_section(s.get("refinement"))
     lines += previous_car_section(s)
     lines += _places_tables(s)
     lines += _runs_and_files(s)
@@ -236,24 +240,7 @@ def _terms(s):
         "is a mean over a stretch where the car is in a steady state (the constant acceleration "
         "of phase I, or the window of a place).",
     ]
-    r = s.get("refinement")
-    if r is not None:
-        lines.append(
-            "- **numerical error** (accuracy on demand): every run is repeated at half and a "
-            "quarter of its step, and the runs an outcome has not converged for are halved "
-            "again, until each deciding outcome converges within its tolerance "
-            "(`outcomes.csv`: one row per run and outcome) or the finest step "
-            f"({1e3 * r['finest_step_s']:g} ms tried) or the budget is reached ({r['stopped']}). "
-            "Converged: the last two differences are within the tolerance and shrink as a "
-            "first-order scheme's do; the error is then the last difference. A maximum over "
-            "runs is taken over each run's own converged value, its error the largest of "
-            "theirs: a run is only ever compared with itself. The error adds the solver's: "
-            "each run's twin at its finest step with SAP's tolerance loosened twice moves it "
-            "by that much (\"solver\" where that is the larger part; step differences within "
-            "it need not shrink). A verdict is decided only where its margin exceeds that error; \"n × "
-            "the error\" says by how much.")
-    else:
-        lines.append("- **numerical error**: not estimated (one step only, --no_verify).")
+    lines.append(error_method(s.get("refinement")))
     return lines + [""]
 
 

@@ -1,0 +1,103 @@
+"""Accuracy on demand, local against global, on the main job (``drake-car-paper``): the job run
+without accuracy on demand (``--no_verify``), with its events resolved locally (``--refine
+local``, the default) and with its runs halved whole (``--refine global``, the reference), each
+in a process of its own, alternately, ``--repeats`` times; the CPU time of each job (all its
+processes: the job's own ``summary.json`` cpu_s, RUSAGE_SELF + RUSAGE_CHILDREN, the Dask
+workers included), the medians and their ratios; then every deciding outcome of the two
+accurate routes side by side with its error, and whether they agree within their errors
+(|local - global| <= error_local + error_global; an outcome without an error is compared by
+its difference only).
+
+``--reference DIR`` takes the global route's outcomes (and its CPU time) from a main job run
+earlier (its outcomes.csv and summary.json), instead of running it: the global route costs
+5-10 times the local one. Say so where you quote the ratio: it is then not of one sitting.
+
+  python benchmarks/resolve_cost.py --out DIR [--repeats 1] [--reference DIR]
+"""
+
+import json
+import math
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from drake_car.commands import cli
+from drake_car.study.paper.outcomes import DRIVES, read_outcomes
+
+ROUTES = {"no_verify": ["--no_verify"], "local": ["--refine", "local"],
+          "global": ["--refine", "global"]}
+
+
+def run_job(route, out, extra):
+    """One main job in a process of its own; its summary's CPU time (s) and wall time."""
+    began = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "drake_car.commands.paper", "--out", str(out),
+                    "--no_html", *ROUTES[route], *extra], check=True,
+                   stdout=subprocess.DEVNULL)
+    summary = json.loads((out / "summary.json").read_text())
+    return summary["cpu_s"], time.perf_counter() - began
+
+
+def agreement(local, reference):
+    """Rows (subject, outcome, local value, local error, global value, global error, diff,
+    agree) of the deciding outcomes both routes have."""
+    rows = []
+    for key in sorted(set(local) & set(reference)):
+        if key[1] not in DRIVES:
+            continue
+        a, b = local[key], reference[key]
+        diff = abs(a["value"] - b["value"])
+        errors = [a["error"], b["error"]]
+        agree = (diff <= sum(errors) * (1 + 1e-9) if None not in errors else None)
+        rows.append((*key, a["value"], a["error"], b["value"], b["error"], diff, agree,
+                     a["unit"]))
+    return rows
+
+
+def main():
+    p = cli.parser(__doc__, prog="benchmarks/resolve_cost.py", out=True,
+                   scene_text="YAML laid over every run's scene of every job")
+    p.add_argument("--repeats", type=int, default=1)
+    p.add_argument("--reference", type=Path, default=None,
+                   help="a global-route main job's folder (outcomes.csv, summary.json) "
+                        "instead of running the global route")
+    args = p.parse_args()
+    extra = ["--scene_text", args.scene_text] if args.scene_text else []
+    routes = ["no_verify", "local"] + ([] if args.reference else ["global"])
+    args.out.mkdir(parents=True, exist_ok=True)
+    cpu = {r: [] for r in routes}
+    for k in range(args.repeats):
+        for route in routes:
+            out = args.out / f"{route}_{k}"
+            seconds, wall = run_job(route, out, extra)
+            cpu[route].append(seconds)
+            print(f"{route:9s} repeat {k}: {seconds:7.1f} s CPU, {wall:7.1f} s wall",
+                  flush=True)
+    median = {r: statistics.median(v) for r, v in cpu.items()}
+    reference = args.reference or args.out / "global_0"
+    if args.reference:
+        median["global"] = json.loads((reference / "summary.json").read_text())["cpu_s"]
+        print(f"global (reference {reference}): {median['global']:.1f} s CPU, not of this "
+              "sitting")
+    base = median["no_verify"]
+    for route, value in median.items():
+        print(f"{route:9s} median {value:7.1f} s CPU = {value / base:.2f} x --no_verify")
+    rows = agreement(read_outcomes(args.out / "local_0" / "outcomes.csv"),
+                     read_outcomes(reference / "outcomes.csv"))
+    print("\nrun | outcome | local ± error | global ± error | |diff| | agree")
+    for subject, outcome, lv, le, gv, ge, diff, agree, unit in rows:
+        scale = 1e3 if unit == "m" else 100.0 if unit == "fraction" else 1.0
+
+        def shown(value, error):
+            return (f"{scale * value:.4f}" + ("" if error is None or math.isnan(error)
+                                               else f" ± {scale * error:.4f}"))
+        print(f"{subject} | {outcome} | {shown(lv, le)} | {shown(gv, ge)} | "
+              f"{scale * diff:.4f} | {'-' if agree is None else 'yes' if agree else 'NO'}")
+    (args.out / "resolve_cost.json").write_text(json.dumps(
+        {"cpu_s": cpu, "median_cpu_s": median, "agreement": rows}, indent=1, default=str))
+
+
+if __name__ == "__main__":
+    main()

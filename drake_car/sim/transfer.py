@@ -1,0 +1,131 @@
+"""A run's state carried between two Diagrams of one scene built at different steps
+(``sim.resolve``: a window resolved at a finer step and back).
+
+A Context does not copy between Diagrams (the plant's sampled-port memory and SceneGraph's state
+carry their own Diagram's identifiers), values do: ``state_values`` takes every system's
+discrete state (the plant's positions and velocities, the strut friction's creep, phases,
+targets, gains and event log, the tyres' relaxation state and forces of the next step) and the
+time; ``set_state`` writes them into the other Diagram by system name and group, writes the
+model values the friction and the hands-off schedule keep in the plant (PD gains, effort
+limits: a forced publish, as ``sim.branch`` does) and re-initializes its simulator without the
+initialization events. Into a Diagram of the same step this is exact: the continued run equals
+the run that never left, bit for bit (``tests/test_resolve.py``). The plant's sampled outputs
+need no copy: every system that reads them (the friction's reactions, the driveshafts' torque)
+does so in its update, after the plant's step has refreshed them.
+
+What does not carry over as a value is the constraints' violation. SAP holds a ball constraint
+(the ball joints and tie rods closing the car's loops) as a near-rigid spring whose stiffness
+scales with m/dt², so under a steady load its violation scales with dt² (measured on the car: 2.8
+µm at 1 ms). The same positions fed to a step four times finer carry sixteen times the force in
+its first step: a kick that raised a strut's normal force by 10 % and spun the rods to 500 Δv
+(a break-away no run has). ``set_state`` therefore sets each constraint's violation to
+(dt_to / dt_from)² times its value, by the smallest change of the positions in the mass metric
+(Newton on the constraints' Jacobian, two iterations), and shifts the friction's record of the
+pairs' positions by their part of that change (it is no motion of the pairs: no creep, no PD
+error). With it the finer run continues the coarser one without a kick (the rods' velocities
+change by < 0.01 Δv over the first steps).
+"""
+
+import dataclasses
+
+import numpy as np
+from pydrake.multibody.tree import JacobianWrtVariable
+from pydrake.systems.analysis import InitializeParams
+
+from drake_car.model.car import loop_closure_frames
+from drake_car.systems.gain_schedule import GainSchedule
+from drake_car.systems.strut_friction import StrutFriction
+
+NEWTON_ITERATIONS = 2
+
+
+@dataclasses.dataclass
+class StateValues:
+    """A Diagram's state as values: the time (s), system name -> its discrete state groups,
+    and the step (s) of the Diagram they were taken from."""
+
+    time_s: float
+    groups: dict
+    step_s: float
+
+
+def state_values(built, root) -> StateValues:
+    """Every system's discrete state of ``built``'s Diagram in ``root`` (copies)."""
+    groups = {}
+    for system in built.diagram.GetSystems():
+        context = system.GetMyContextFromRoot(root)
+        count = context.num_discrete_state_groups()
+        if count:
+            groups[system.get_name()] = [context.get_discrete_state(i).get_value().copy()
+                                         for i in range(count)]
+    return StateValues(root.get_time(), groups, built.scene.time_step_s)
+
+
+def set_state(built, simulator, values: StateValues):
+    """``values`` into ``built``'s Diagram (its simulator's root context), the constraints'
+    violation set to this Diagram's step, the model values written, the simulator initialized
+    without initialization events."""
+    root = simulator.get_mutable_context()
+    root.SetTime(values.time_s)
+    for system in built.diagram.GetSystems():
+        groups = values.groups.get(system.get_name())
+        if groups is None:
+            continue
+        context = system.GetMyMutableContextFromRoot(root)
+        if context.num_discrete_state_groups() != len(groups):
+            raise ValueError(f"set_state: system {system.get_name()} has "
+                             f"{context.num_discrete_state_groups()} discrete state groups, "
+                             f"the values {len(groups)}")
+        for i, value in enumerate(groups):
+            context.SetDiscreteState(i, value)
+    ratio = built.scene.time_step_s / values.step_s
+    if ratio != 1.0:
+        scale_constraint_violation(built, root, ratio ** 2)
+    for system in built.diagram.GetSystems():
+        if isinstance(system, (GainSchedule, StrutFriction)):
+            system.ForcedPublish(system.GetMyContextFromRoot(root))
+    simulator.Initialize(InitializeParams(suppress_initialization_events=True))
+
+
+def constraint_violation(built, plant_context):
+    """The loop closures' violations p_B - p_A, stacked (m)."""
+    plant = built.plant
+    world = plant.world_frame()
+    return np.concatenate([
+        plant.CalcPointsPositions(plant_context, b, np.zeros(3), world)[:, 0]
+        - plant.CalcPointsPositions(plant_context, a, np.zeros(3), world)[:, 0]
+        for a, b in loop_closure_frames(built.car)])
+
+
+def scale_constraint_violation(built, root, scale):
+    """Sets the loop closures' violation to ``scale`` times its value in ``root`` (see the
+    module), the friction's record of its pairs' positions shifted with them."""
+    plant = built.plant
+    frames = loop_closure_frames(built.car)
+    if plant.num_constraints() != len(frames):
+        raise ValueError(f"set_state: the plant has {plant.num_constraints()} constraints, of "
+                         f"which {len(frames)} are the car's loop closures; a state moves "
+                         "between steps only with those")
+    context = plant.GetMyMutableContextFromRoot(root)
+    world = plant.world_frame()
+    origin = np.zeros(3)
+    target = scale * constraint_violation(built, context)
+    q0 = plant.GetPositions(context)
+    for _ in range(NEWTON_ITERATIONS):
+        residual = target - constraint_violation(built, context)
+        jacobian = np.vstack([
+            plant.CalcJacobianTranslationalVelocity(context, JacobianWrtVariable.kV, b, origin,
+                                                    world, world)
+            - plant.CalcJacobianTranslationalVelocity(context, JacobianWrtVariable.kV, a,
+                                                      origin, world, world)
+            for a, b in frames])
+        # The smallest change in the mass metric: dv = M⁻¹Jᵀ (J M⁻¹ Jᵀ)⁻¹ r.
+        m_inv_jt = np.linalg.solve(plant.CalcMassMatrix(context), jacobian.T)
+        dv = m_inv_jt @ np.linalg.solve(jacobian @ m_inv_jt, residual)
+        plant.SetPositions(context, plant.GetPositions(context)
+                           + plant.MapVelocityToQDot(context, dv))
+    moved = plant.GetPositions(context) - q0
+    for system in built.diagram.GetSystems():
+        if isinstance(system, StrutFriction):
+            system.shift_positions(system.GetMyMutableContextFromRoot(root),
+                                   moved[system.position_indices()])
