@@ -25,6 +25,7 @@ from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
 from drake_car.sim.build import build_diagram
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
+from drake_car.sim.lane_change_calibration import adapted
 from drake_car.sim.monitor import Monitor, Road
 from drake_car.systems.tyre import WHEELS
 
@@ -98,7 +99,7 @@ def simulate(scene: Scene, *, progress=False, meshcat=None) -> Run:
     unless ``meshcat`` is given."""
     runner = Runner(scene, progress=progress, meshcat=meshcat)
     runner.start()
-    runner.advance_to(scene.end_time_s)
+    runner.advance_to(runner.scene.end_time_s)
     return runner.finish()
 
 
@@ -111,7 +112,11 @@ class Runner:
                  built=None, context=None):
         """``branchable``: build the Diagram so that other cases can continue its context
         (``sim.branch``); ``built`` and ``context``: continue such a Diagram's saved context
-        with this scene's case instead of building anew."""
+        with this scene's case instead of building anew (its scene as it runs already). A
+        scene built anew is run as it adapts to its car (``sim.lane_change_calibration``: a
+        launch left out, a lane change's rack), which the Run's scene then holds."""
+        if built is None:
+            scene = adapted(scene, run=simulate)[0]
         self.scene = scene
         visual = scene.visualization
         shows = isinstance(visual, (MeshcatLive, MeshcatReplay))
