@@ -12,6 +12,7 @@ from drake_car.scene.load import (
 from drake_car.scene.scene import MeshcatReplay, PrescribedRotation
 from drake_car.sim.build import build_diagram
 from drake_car.results.files import read_csv, write_csv
+from drake_car.sim.lane_change_calibration import adapted
 from drake_car.sim.simulate import simulate
 from drake_car.systems.sap_pacer import PACER_MASS_KG
 from drake_car.systems.strut_friction import StrutFriction
@@ -21,7 +22,9 @@ SCENES = shipped_scenes()
 
 
 def systems_of(scene):
-    return list(build_diagram(scene).diagram.GetSystems())
+    """The systems of the scene's Diagram, as it runs (its lane change's rack found for the
+    car: ``sim.lane_change_calibration``; the shipped scenes' are shipped)."""
+    return list(build_diagram(adapted(scene, run=simulate)[0]).diagram.GetSystems())
 
 
 def test_scenes_are_shipped():
