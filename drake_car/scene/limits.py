@@ -10,6 +10,10 @@ trust a checked scene.
   coupling (``law.tyre.slip.explicit_time_step_limit_s``).
 - The tyre file against the car: its FZMIN..FZMAX holds the car's wheel load at rest, and its
   relaxation data exist and are positive there when the scene takes them from the file.
+- The driver against the manoeuvre (``check_driver``): a ``!PathFollower`` only on a manoeuvre
+  defined by a path, such a manoeuvre only with it, its chassis channels logged (its outcome is
+  judged from them), the driver's period no shorter than the step, the body no narrower than
+  the car's wheels.
 
 Every refusal is a ``ParameterError`` naming the key; ``check_scene`` adds where the scene came
 from.
@@ -26,7 +30,7 @@ from drake_car.model.anti_roll_bar import time_step_limit_s as bar_time_step_lim
 from drake_car.model.loading import read_tyre
 from drake_car.model.parameters import GRAVITY_MPS2
 from drake_car.model.struts import reference_time_step_limit_s
-from drake_car.scene.scene import LinearTyre, MagicFormula, default_plant_config
+from drake_car.scene.scene import LinearTyre, MagicFormula, PathFollower, default_plant_config
 
 # Plant-config fields that have no effect on this car (it has no collision geometry): they
 # must keep their defaults, so that every value of a scene changes its run.
@@ -62,6 +66,7 @@ def check_plant(plant: MultibodyPlantConfig):
 def check_limits(scene):
     """The scene's step against every explicit part's stability limit, and its tyre file
     against its car; raises ParameterError naming the key."""
+    check_driver(scene)
     step = scene.time_step_s
     bar = bar_time_step_limit_s(scene.car)
     if step > bar:
@@ -121,3 +126,35 @@ def _check_tyre_file(scene):
             "plant.time_step", scene.time_step_s,
             f"is above the tyres' explicit stability limit {limit:.2g} s (wheel spin inertia "
             f"{car.mass.wheel_spin_inertia_kgm2:g} kg m²); use a smaller step")
+
+
+def check_driver(scene):
+    """A path follower and a path manoeuvre come together (module docstring)."""
+    follows = isinstance(scene.steering, PathFollower)
+    manoeuvre = scene.manoeuvre
+    has_path = getattr(manoeuvre, "follows_path", False)
+    kind = type(manoeuvre).__name__
+    if follows and not has_path:
+        raise ParameterError("steering", "!PathFollower",
+                             f"needs a manoeuvre defined by a path (!DoubleLaneChange, "
+                             f"!ConstantRadius); !{kind} has none")
+    if has_path and not follows:
+        raise ParameterError("steering", f"!{type(scene.steering).__name__}",
+                             f"cannot drive !{kind}, a manoeuvre defined by a path; use "
+                             "steering: !PathFollower {}")
+    if not has_path:
+        return
+    channels = scene.logging.channels
+    if channels is not None and "chassis" not in channels:
+        raise ParameterError("logging.channels", channels,
+                             f"must hold chassis: !{kind}'s outcome is judged from it")
+    if scene.steering.period_s < scene.time_step_s:
+        raise ParameterError("steering.period_s", scene.steering.period_s,
+                             f"must be >= plant.time_step = {scene.time_step_s:g} s")
+    width = getattr(manoeuvre, "vehicle_width_m", None)
+    car = scene.car
+    wheels = max(car.front.track_m, car.rear.track_m) + car.tyre.width_m
+    if width is not None and width < wheels:
+        raise ParameterError("manoeuvre.vehicle_width_m", width,
+                             f"must be >= the car's width over its tyres, {wheels:.3g} m "
+                             "(track + tyre width)")

@@ -10,10 +10,12 @@ Sections, each a loadable dataclass with a ``check()`` that names a bad key:
 - ``tyres``: ``!MagicFormula`` (default), ``!LinearTyre`` or ``!VerticalOnly``;
 - ``road``: ``!Flat`` (default), ``!CosineBump`` or ``!SampledProfile`` (``law.road.profiles``);
 - ``manoeuvre``: ``!LaneChange`` (default), ``!Straight``, ``!Settle``, ``!RampSteer``,
-  ``!StepSteer`` (``scene.manoeuvres``);
+  ``!StepSteer`` (``scene.manoeuvres``), ``!DoubleLaneChange``, ``!ConstantRadius``
+  (``scene.paths``: defined by a path);
 - ``drive``: ``!OpenDifferential`` (default: one torque split equally) or
   ``!PrescribedRotation`` (the paper's: both front wheels' rotation prescribed);
-- ``steering``: ``!HeldRack`` (default: the rack follows the command) or ``!HandsOff``;
+- ``steering``: ``!HeldRack`` (default: the rack follows the command), ``!HandsOff`` or
+  ``!PathFollower`` (a driver follows a path manoeuvre's path);
 - ``plant``: Drake's ``MultibodyPlantConfig`` (the time step; the car needs SAP);
 - ``simulator``: end time, initial state, the SAP pacer, the divergence monitor's period;
 - ``logging``: which channel groups are logged, how often;
@@ -30,7 +32,9 @@ from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.law.road.profiles import Flat, Road
 from drake_car.law.tyre.slip import SlipOptions
 from drake_car.model.parameters import CarParameters
-from drake_car.scene.manoeuvres import LaneChange, Manoeuvre
+from drake_car.scene import manoeuvres
+from drake_car.scene.manoeuvres import LaneChange
+from drake_car.scene.paths import PATH_MANOEUVRES, PathFollower
 
 DEFAULT_TIR = "tyres/pacejka2006_205_60R15.tir"
 
@@ -200,7 +204,10 @@ class HandsOff:
         return self
 
 
-Steering = typing.Union[HeldRack, HandsOff]
+# The driver following a path manoeuvre's path (scene.paths) is the third way to steer.
+Steering = typing.Union[HeldRack, HandsOff, PathFollower]
+# The manoeuvres of scene.manoeuvres and those defined by a path (scene.paths).
+Manoeuvre = typing.Union[(*typing.get_args(manoeuvres.Manoeuvre), *PATH_MANOEUVRES)]
 
 
 @dataclasses.dataclass

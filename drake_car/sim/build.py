@@ -26,9 +26,11 @@ from drake_car.model.struts import declare_strut_friction, make_strut_friction
 from drake_car.scene.load import channels_of, hands_off_release_s
 from drake_car.scene.manoeuvres import LaneChange
 from drake_car.scene.scene import (
-    HandsOff, LinearTyre, MagicFormula, PrescribedRotation, Scene)
+    HandsOff, HeldRack, LinearTyre, MagicFormula, PathFollower, PrescribedRotation, Scene)
 from drake_car.sim.actuation import ActuationWiring
 from drake_car.sim.drive_wiring import add_drive, driveshafts
+from drake_car.sim.driver_wiring import (
+    add_path_driver, drive_torque_input, external_outputs, rack_command)
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
@@ -53,6 +55,10 @@ class CarDiagram:
     log_columns: dict = dataclasses.field(default_factory=dict)  # group -> column names
     velocity_logger: object = None  # the car's state every step (frozen-step count)
     case_port: object = None  # the Diagram's input selecting the lane change's case, or None
+    # An external-driver Diagram's exported ports (sim.driver_wiring): name -> port.
+    inputs: dict = dataclasses.field(default_factory=dict)
+    outputs: dict = dataclasses.field(default_factory=dict)
+    driver: object = None  # a !PathFollower scene's PathDriver, or None
 
     def plant_context(self, root_context):
         return self.plant.GetMyContextFromRoot(root_context)
@@ -68,12 +74,29 @@ CASES = ("a", "b")
 
 
 def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
-                  column_form="reflected") -> CarDiagram:
+                  column_form="reflected", external_driver=False) -> CarDiagram:
     """The scene's Diagram. ``branchable`` (lane changes only): both cases' rack commands
     behind a switch whose selection is a value of the context (``select_case``), so runs that
     differ only in the case can continue one saved context (``sim.branch``). ``column_form``:
     how a hands-off scene's steering column is modelled (``model.steering.COLUMN_FORMS``; the
-    coupler form is the reference the tests hold the default to)."""
+    coupler form is the reference the tests hold the default to).
+
+    ``external_driver``: leave the rack command and the drive torque unconnected and export
+    them as the Diagram's inputs ``rack_position_m`` and ``drive_torque_Nm``, with the
+    outputs a driver or controller reads (``car_state``, ``chassis_motion``, ``body_poses``,
+    ``body_spatial_velocities``, ``tyre_loads_N``, ``strut_friction_diagnostics``; units and
+    layouts in ``sim.driver_wiring``), as Drake's ``MakeHardwareStation`` exports every
+    unconnected input: the driver is then a system of the caller's own outer Diagram
+    (``CarDiagram.inputs`` / ``outputs`` hold the ports). It is an argument of the build, not
+    a scene value, because the scene describes a run that is a pure function of it (the car,
+    road, tyres, friction and what drives them): a Diagram whose inputs come from outside is
+    not such a run until the caller says what feeds them. The scene's manoeuvre still gives
+    the run's phases and end and its speed the drive's rev limit; its rack and speed profiles
+    are not built. Needs the scene's steering ``!HeldRack`` and drive ``!OpenDifferential``;
+    not branchable."""
+    if external_driver and (branchable or not isinstance(scene.steering, HeldRack)):
+        raise ValueError("build_diagram(external_driver=True): needs steering !HeldRack (the "
+                         "driver comes from outside) and is not branchable")
     builder = DiagramBuilder()
     # 1. The plant and the car, then every actuator the scene needs, before Finalize.
     plant, scene_graph = AddMultibodyPlant(scene.plant, builder)
@@ -134,13 +157,25 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         wiring.connect("friction", desired=friction.desired_state_output_port(),
                        feedforward=friction.actuation_output_port())
 
-    # 5. Drive: the speed profile through the front wheels, torque reacted by the body.
-    if drives:
+    # 5. Drive: the speed profile through the front wheels, torque reacted by the body (or a
+    # torque from outside).
+    inputs = {}
+    if drives and external_driver:
+        inputs["drive_torque_Nm"] = drive_torque_input(builder, plant, car, scene, wiring)
+    elif drives:
         add_drive(builder, plant, car, scene, wiring)
 
-    # 6. Steering: the rack servo follows the manoeuvre's rack trajectory.
-    case_port = None
-    if branchable:
+    # 6. Steering: the rack servo follows the manoeuvre's rack trajectory (a path follower's
+    # command, or a position from outside).
+    case_port, driver, channels = None, None, None
+    if external_driver or isinstance(scene.steering, PathFollower):
+        channels = _car_channels(builder, plant, car, pacer, scene, extra=["chassis"])
+    if external_driver:
+        inputs["rack_position_m"], rack_port = rack_command(builder)
+    elif isinstance(scene.steering, PathFollower):
+        driver = add_path_driver(builder, scene, channels.GetOutputPort("chassis"))
+        _, rack_port = rack_command(builder, driver.rack_output_port())
+    elif branchable:
         if not isinstance(scene.manoeuvre, LaneChange):
             raise ValueError("build_diagram: only lane changes are branchable")
         switch = builder.AddSystem(PortSwitch(2))
@@ -175,7 +210,14 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         builder.Connect(combine.get_output_port(0), plant.get_applied_spatial_force_input_port())
 
     # 8. Loggers: one per channel group asked for; the car's state every step.
-    loggers, columns = _add_loggers(builder, plant, car, tyre, friction, pacer, scene)
+    loggers, columns = _add_loggers(builder, plant, car, tyre, friction, pacer, scene,
+                                    channels)
+    input_index = {name: builder.ExportInput(port, name) for name, port in inputs.items()}
+    output_index = {}
+    if external_driver:
+        output_index = {name: builder.ExportOutput(port, name) for name, port in
+                        external_outputs(plant, car, tyre, friction,
+                                         channels.GetOutputPort("chassis")).items()}
     velocity_logger = LogVectorOutput(plant.get_state_output_port(car.instance), builder,
                                       scene.time_step_s)
     velocity_logger.set_name("car_state_every_step")
@@ -194,7 +236,9 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
     return CarDiagram(scene=scene, diagram=diagram, plant=plant, scene_graph=scene_graph,
                       car=car, tyre=tyre, friction=friction, pacer=pacer, loggers=loggers,
                       log_columns=columns, velocity_logger=velocity_logger,
-                      case_port=case_port)
+                      case_port=case_port, driver=driver,
+                      inputs={n: diagram.get_input_port(i) for n, i in input_index.items()},
+                      outputs={n: diagram.get_output_port(i) for n, i in output_index.items()})
 
 
 def _note_tyre_load(tyre, car_parameters):
@@ -288,16 +332,26 @@ def _let_go(builder, plant, car, scene, column, wiring):
     builder.Connect(system.actuation_output_port(), plant.get_actuation_input_port(instance))
 
 
-def _add_loggers(builder, plant, car, tyre, friction, pacer, scene):
+def _car_channels(builder, plant, car, pacer, scene, extra=()):
+    """The car's channels system with the groups the scene logs and ``extra`` ones."""
+    groups = [g for g in channels_of(scene) if g in CAR_CHANNELS]
+    channels = builder.AddSystem(CarChannels(plant, car, groups + [
+        g for g in extra if g not in groups], pacer_instance=pacer))
+    channels.set_name("car_channels")
+    channels.connect(builder, plant)
+    return channels
+
+
+def _add_loggers(builder, plant, car, tyre, friction, pacer, scene, channels=None):
+    """One logger per channel group the scene logs; ``channels``: the car's channels system
+    when the build made one already (a driver reads it)."""
     groups = channels_of(scene)
     period = scene.logging.record_period_s
     loggers, columns = {}, {}
     car_groups = [g for g in groups if g in CAR_CHANNELS]
     if car_groups:
-        channels = builder.AddSystem(CarChannels(plant, car, car_groups,
-                                                 pacer_instance=pacer))
-        channels.set_name("car_channels")
-        channels.connect(builder, plant)
+        if channels is None:
+            channels = _car_channels(builder, plant, car, pacer, scene)
         for group in car_groups:
             loggers[group] = LogVectorOutput(channels.GetOutputPort(group), builder, period)
             columns[group] = list(CAR_CHANNELS[group])

@@ -26,6 +26,9 @@ LOOK_AHEAD_M = np.array([6.0, 0.0, 0.0])  # where it aims, relative to the car
 ROAD_GREY = Rgba(0.5, 0.5, 0.52, 1.0)
 WHITE = Rgba(1.0, 1.0, 1.0, 1.0)
 BUMP_YELLOW = Rgba(1.0, 0.85, 0.0, 1.0)
+CONE_ORANGE = Rgba(1.0, 0.45, 0.1, 1.0)
+CONES_PER_LANE_EDGE = 5  # drawn along each edge of a cone lane (the standard's spacing: not at hand)
+PATH_MARK_SPACING_M = 2.0  # a path manoeuvre's path drawn as a dotted line
 
 
 def start_meshcat():
@@ -55,6 +58,26 @@ def lane_markings(scene):
     return [(-sign * half, False), (sign * half, True), (sign * (half + LANE_WIDTH_M), False)]
 
 
+def _path_marks(scene):
+    """(x, y) arrays of a path manoeuvre's path every PATH_MARK_SPACING_M (empty otherwise)."""
+    centre_line = getattr(scene.manoeuvre, "centre_line", None)
+    if centre_line is None:
+        return np.zeros(0), np.zeros(0)
+    line = centre_line()
+    stations = np.arange(0.0, line.length_m, PATH_MARK_SPACING_M)
+    return np.interp(stations, line.station, line.x), np.interp(stations, line.station, line.y)
+
+
+def _cones(scene):
+    """(x, y) of the cones along a cone-lane manoeuvre's lane edges."""
+    lanes = getattr(scene.manoeuvre, "lanes", None)
+    if lanes is None:
+        return []
+    return [(x, y) for lane in lanes()
+            for x in np.linspace(lane.start_m, lane.end_m, CONES_PER_LANE_EDGE)
+            for y in (lane.left_m, lane.right_m)]
+
+
 class ReplayRecorder:
     """Records a run into a replay page. ``frame(root_context)`` after each advance adds the
     camera's animation; ``finish()`` returns the page."""
@@ -81,7 +104,8 @@ class ReplayRecorder:
         x_min, x_max = road_extent(scene)
         markings = lane_markings(scene)
         ys = [y for y, _ in markings]
-        y_min, y_max = min(ys) - 1.0, max(ys) + 1.0
+        marks = _path_marks(scene)
+        y_min, y_max = min(ys + list(marks[1])) - 1.0, max(ys + list(marks[1])) + 1.0
         length = x_max - x_min
         m.SetObject("/drake/road/asphalt", Box(length, y_max - y_min, 0.1), ROAD_GREY)
         m.SetTransform("/drake/road/asphalt", RigidTransform(
@@ -96,6 +120,12 @@ class ReplayRecorder:
                 path = f"/drake/road/markings/line{i}/dash{k:03d}"
                 m.SetObject(path, Box(3.0, 0.15, 0.01), WHITE)
                 m.SetTransform(path, RigidTransform([x + 1.5, y, 0.0]))
+        for k, (x, y) in enumerate(zip(*marks)):
+            m.SetObject(f"/drake/road/path/mark{k:04d}", Box(0.5, 0.15, 0.012), WHITE)
+            m.SetTransform(f"/drake/road/path/mark{k:04d}", RigidTransform([x, y, 0.0]))
+        for k, (x, y) in enumerate(_cones(scene)):
+            m.SetObject(f"/drake/road/cones/cone{k:03d}", Box(0.3, 0.3, 0.5), CONE_ORANGE)
+            m.SetTransform(f"/drake/road/cones/cone{k:03d}", RigidTransform([x, y, 0.25]))
         road = scene.road
         if isinstance(road, CosineBump):
             height = abs(road.height_m)

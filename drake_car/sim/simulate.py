@@ -23,6 +23,7 @@ from drake_car.scene.load import (
     WALL_PER_STEP_S, dump_scene, dump_scene_file, scene_hash)
 from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
 from drake_car.sim.build import build_diagram
+from drake_car.sim.driver_wiring import manoeuvre_outcome
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
 from drake_car.sim.lane_change_calibration import adapted
@@ -192,11 +193,14 @@ class Runner:
         html = self.recorder.finish() if self.recorder is not None else None
         dot = built.diagram.GetGraphvizString(max_depth=1, options={"plant/split": "I/O"})
         stats = self.monitor.stats
+        final = final_state(built, root)
+        outcome = manoeuvre_outcome(scene, history, log)  # a path manoeuvre's: done as asked?
+        if outcome is not None:
+            final["manoeuvre_outcome"] = outcome
         return Run(scene=scene, history=history, wall_s=self.wall_s,
                    frozen_sap_steps=stats.frozen_steps,
                    first_frozen_sap_step_s=stats.first_frozen_time_s, steps=stats.steps,
-                   final=final_state(built, root), diagram_dot=dot, replay_html=html,
-                   cpu_s=self.cpu_s)
+                   final=final, diagram_dot=dot, replay_html=html, cpu_s=self.cpu_s)
 
 
 @contextlib.contextmanager

@@ -1,0 +1,33 @@
+"""The package's front door: ``drake_car`` offers what a user builds with, loaded lazily, so
+that importing one room (the law) loads neither Drake nor the rest of the package."""
+
+import subprocess
+import sys
+
+import drake_car
+
+
+def test_every_exported_name_resolves():
+    for name in drake_car.__all__:
+        assert getattr(drake_car, name) is not None, name
+    assert set(drake_car.__all__) <= set(dir(drake_car))
+    assert {"load_scene", "Scene", "build_diagram", "simulate", "StrutFriction", "TyreSystem",
+            "StrutFrictionParameters", "PathDriver"} <= set(drake_car.__all__)
+
+
+def test_an_unknown_name_is_an_attribute_error():
+    try:
+        drake_car.no_such_name
+    except AttributeError as e:
+        assert "no_such_name" in str(e)
+    else:
+        raise AssertionError("drake_car.no_such_name did not raise")
+
+
+def test_the_law_loads_without_drake():
+    """A fresh process importing the package and the friction law has no pydrake module."""
+    code = ("import sys, drake_car, drake_car.law.friction.frd; "
+            "print(sorted(m for m in sys.modules if m.startswith(('pydrake', 'drake_car.sim'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "[]", out
