@@ -49,6 +49,7 @@ from drake_car.model.geometry import GRAVITY_MPS2, centre_of_mass, design_axle_l
 from drake_car.model.loading import tir_path
 from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH, place_a
 from drake_car.scene.manoeuvres import PAPER_SPEED_UP_S, speed_profile
+from drake_car.scene.scene import LinearTyre, MagicFormula, PrescribedRotation
 
 # [EST] the share of the tyres' peak grip a launch may ask (see the module).
 TRACTION_MARGIN = 0.9
@@ -95,11 +96,9 @@ class LaunchLimits:
 
 def _tyre(scene):
     """The scene's Magic Formula tyre, or None (a linear tyre: no saturation; no tyre forces)."""
-    tyres = scene.tyres
-    name = type(tyres).__name__
-    if name != "MagicFormula":
+    if not isinstance(scene.tyres, MagicFormula):
         return None
-    return MagicFormulaTyre.from_file(tir_path(tyres.tir_file))
+    return MagicFormulaTyre.from_file(tir_path(scene.tyres.tir_file))
 
 
 def peak_mu(tyre, load_N):
@@ -120,7 +119,7 @@ def launch_limits(scene) -> LaunchLimits:
     inertia = car.mass.wheel_spin_inertia_kgm2
     mass = car.mass.total_mass_kg
     controller_mass = mass + 4 * inertia / radius ** 2
-    prescribed = type(drive).__name__ == "PrescribedRotation"
+    prescribed = isinstance(drive, PrescribedRotation)
     drive_accel = (math.inf if prescribed else
                    drive.max_wheel_torque_Nm / (controller_mass * radius))
     static_front = design_axle_loads_N(car)["front"]
@@ -154,7 +153,7 @@ def predicted_speed(scene, timeline, limits: LaunchLimits = None):
     module), up to the start of phase III."""
     limits = limits or launch_limits(scene)
     car, drive = scene.car, scene.drive
-    prescribed = type(drive).__name__ == "PrescribedRotation"
+    prescribed = isinstance(drive, PrescribedRotation)
     mass, inertia = car.mass.total_mass_kg, car.mass.wheel_spin_inertia_kgm2
     rear_radius = rolling_radius(car, "rear")
     static_front = design_axle_loads_N(car)["front"]
@@ -222,7 +221,7 @@ def resolve_launch(scene):
 
 def _tyre_forces(scene):
     """Whether the tyres push the car at all (not ``VerticalOnly``)."""
-    return type(scene.tyres).__name__ in ("MagicFormula", "LinearTyre")
+    return isinstance(scene.tyres, (MagicFormula, LinearTyre))
 
 
 def launch_description(scene):
