@@ -89,7 +89,8 @@ def test_launch_limits_follow_from_the_cars_numbers(scene):
     assert limits.lag_s == pytest.approx(mass * radius / drive.speed_gain_Nm_per_mps, rel=1e-12)
     # a road tyre's peak μ lies in 0.8-1.4; the launch unloads the front axle
     assert 0.8 < limits.peak_mu < 1.4
-    assert limits.front_load_N < design_axle_loads_N(car)["front"]
+    assert limits.driven_axle == "front"
+    assert limits.driven_load_N < design_axle_loads_N(car)["front"]
     # the shortest launch's profile stays within what the car allows, 0.1 s shorter does not
     v = 60 / 3.6
     shortest = limits.shortest_launch_s(v)

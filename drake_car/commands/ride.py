@@ -51,7 +51,9 @@ def _list(text, kind, name):
 def main(argv=None):
     p = cli.parser(__doc__, name="ride", cluster=True, out_help=(
         "the study's sweep folder: its runs are added to it as they finish and "
-        "reused by the same command again (never replaced)"))
+        "reused by the same command again (never replaced)"), scene_text=(
+        "YAML laid over the ride's base scene (scenes/ride.yaml), so over every run (e.g. "
+        "another car: \"car_file: cars/bmw_320i.yaml\")"))
     p.add_argument("--classes", default="A,B,C", help="ISO 8608 road classes (default: A,B,C)")
     p.add_argument("--speeds", default="60,100", help="speeds in km/h (default: 60,100)")
     p.add_argument("--strut", default="damper",
@@ -67,7 +69,7 @@ def main(argv=None):
     studies = [RideStudy(classes=classes, speeds_kph=speeds, strut=s) for s in struts]
     scenes = {}
     for study in studies:
-        scenes.update(ride_scenes(study))
+        scenes.update(ride_scenes(study, scene_text=args.scene_text or None))
     check_sweep_folder(args.out)
     began = time.perf_counter()
     if not args.no_run:

@@ -12,12 +12,13 @@ mass, CoG, wheel radius and inertia):
   (the engine's torque through first gear and final drive, at the wheels). While the car
   follows its profile T = m_c R a_ref, so the profile may ask at most a_drive = T_max / (m_c R).
   The paper's prescribed rotation has no torque limit (stiff servos).
-- **traction**: the front tyres push with at most μ(Fz/2) Fz, Fz the front axle's static load
-  less the launch's own load transfer m a h / L (h the whole car's CoG height, L the
-  wheelbase), μ the peak of the tyre file's pure longitudinal Fx/Fz over slip at that load; the
-  drive force is T / R_l, R_l = R0 - Fz/(2 k_r) the loaded radius at which the tyre force acts.
+- **traction**: the driven tyres (``car.driven_axle``) push with at most μ(Fz/2) Fz, Fz the
+  driven axle's static load less (front) or plus (rear) the launch's own load transfer
+  m a h / L (h the whole car's CoG height, L the wheelbase), μ the peak of the tyre file's pure
+  longitudinal Fx/Fz over slip at that load; the drive force is T / R_l, R_l = R0 - Fz/(2 k_r)
+  the loaded radius at which the tyre force acts.
   a_traction solves m_c R a / R_l = η μ Fz(a), η = 0.9 [EST]: the pitch as the acceleration
-  sets in unloads the front wheels beyond the steady transfer, and a wheel past its peak slip
+  sets in moves the driven wheels' load beyond the steady transfer, and a wheel past its peak slip
   spins up (a margin of the order of that overshoot).
 - the speed profile's peak acceleration is v / (T_launch - blend) (``speed_profile``: its jerk
   blends), so the shortest launch is T_launch = v / min(a_drive, a_traction) + blend, rounded
@@ -44,7 +45,7 @@ import math
 import numpy as np
 
 from drake_car.law.tyre.magic_formula import MagicFormulaTyre, magic_formula
-from drake_car.model.drive import rolling_radius
+from drake_car.model.drive import driven_axle, rolling_radius
 from drake_car.model.geometry import GRAVITY_MPS2, centre_of_mass, design_axle_loads_N
 from drake_car.model.loading import tir_path
 from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH, place_a
@@ -69,11 +70,12 @@ PREDICTION_ERROR_KPH = 0.2
 class LaunchLimits:
     """What the car's drive allows (see the module); accelerations in m/s²."""
 
+    driven_axle: str  # front or rear
     rolling_radius_m: float
-    loaded_radius_m: float  # at the launch's front load
+    loaded_radius_m: float  # at the launch's driven-axle load
     controller_mass_kg: float  # m_c = m + 4 I_w / R²
     drive_accel_mps2: float  # inf: no torque limit (the paper's prescribed rotation)
-    front_load_N: float  # the front axle's, during the launch (static less the transfer)
+    driven_load_N: float  # the driven axle's during the launch (static and the transfer)
     peak_mu: float  # the tyre's, at that load per wheel (inf: a tyre that does not saturate)
     traction_accel_mps2: float
     lag_s: float  # the speed controller's τ
@@ -86,7 +88,7 @@ class LaunchLimits:
     @property
     def limited_by(self):
         return ("the drive's torque" if self.drive_accel_mps2 <= self.traction_accel_mps2
-                else "the front tyres' grip")
+                else f"the {self.driven_axle} tyres' grip")
 
     def shortest_launch_s(self, speed_mps):
         """The shortest launch whose profile stays within ``max_accel_mps2`` (s)."""
@@ -113,37 +115,42 @@ def peak_mu(tyre, load_N):
     return max(fx(k) for k in fine) / load_N
 
 
+def _axle_load(car, axle):
+    """(the static load of ``axle`` (N), its change per m/s² of the car's acceleration)."""
+    transfer = car.mass.total_mass_kg * float(centre_of_mass(car)[2]) / car.wheelbase_m
+    return design_axle_loads_N(car)[axle], (-transfer if axle == "front" else transfer)
+
+
 def launch_limits(scene) -> LaunchLimits:
     car, drive = scene.car, scene.drive
-    radius = rolling_radius(car)
+    axle, _ = driven_axle(car)
+    radius = rolling_radius(car, axle)
     inertia = car.mass.wheel_spin_inertia_kgm2
     mass = car.mass.total_mass_kg
     controller_mass = mass + 4 * inertia / radius ** 2
     prescribed = isinstance(drive, PrescribedRotation)
     drive_accel = (math.inf if prescribed else
                    drive.max_wheel_torque_Nm / (controller_mass * radius))
-    static_front = design_axle_loads_N(car)["front"]
-    transfer = mass * float(centre_of_mass(car)[2]) / car.wheelbase_m  # N per m/s²
+    static, transfer = _axle_load(car, axle)
     stiffness, unloaded = car.tyre.radial_stiffness_Npm, car.tyre.unloaded_radius_m
     tyre = _tyre(scene)
     if tyre is None:
         accel, mu = math.inf, math.inf
-        load = static_front
     else:
         accel = 0.0
         for _ in range(30):  # the load transfer and μ(Fz) as a fixed point
-            load = max(static_front - transfer * accel, 1.0)
+            load = max(static + transfer * accel, 1.0)
             mu = peak_mu(tyre, load / 2)
             loaded = unloaded - load / 2 / stiffness
             new = TRACTION_MARGIN * mu * load * loaded / (controller_mass * radius)
             if abs(new - accel) < 1e-6:
                 break
             accel = new
-    load = max(static_front - transfer * min(accel, drive_accel), 1.0)
+    load = max(static + transfer * min(accel, drive_accel), 1.0)
     qsy1 = float(getattr(tyre, "QSY1", 0.0)) if tyre is not None else 0.0
     lag = PRESCRIBED_LAG_S if prescribed else \
         controller_mass * radius / drive.speed_gain_Nm_per_mps
-    return LaunchLimits(*(float(x) for x in (
+    return LaunchLimits(axle, *(float(x) for x in (
         radius, unloaded - load / 2 / stiffness, controller_mass, drive_accel, load, mu, accel,
         lag, qsy1 * mass * GRAVITY_MPS2)))
 
@@ -155,9 +162,9 @@ def predicted_speed(scene, timeline, limits: LaunchLimits = None):
     car, drive = scene.car, scene.drive
     prescribed = isinstance(drive, PrescribedRotation)
     mass, inertia = car.mass.total_mass_kg, car.mass.wheel_spin_inertia_kgm2
-    rear_radius = rolling_radius(car, "rear")
-    static_front = design_axle_loads_N(car)["front"]
-    transfer = mass * float(centre_of_mass(car)[2]) / car.wheelbase_m
+    axle, other = driven_axle(car)
+    free_radius = rolling_radius(car, other)
+    static, transfer = _axle_load(car, axle)
     stiffness, unloaded = car.tyre.radial_stiffness_Npm, car.tyre.unloaded_radius_m
     radius, m_c = limits.rolling_radius_m, limits.controller_mass_kg
     t = np.arange(0.0, timeline.boundaries()[1] + _PREDICTION_STEP_S, _PREDICTION_STEP_S)
@@ -166,12 +173,12 @@ def predicted_speed(scene, timeline, limits: LaunchLimits = None):
     accel = 0.0
     mu = limits.peak_mu
     for i in range(1, len(t)):
-        load = max(static_front - transfer * accel, 1.0)
+        load = max(static + transfer * accel, 1.0)
         loaded = unloaded - load / 2 / stiffness
         moving = v[i - 1] > 0.1
         resistance = limits.rolling_resistance_N * unloaded / loaded if moving else 0.0
-        # the car (with the rear wheels' spin) and the front wheels spun up by the torque
-        inertial_mass = mass + 2 * inertia / rear_radius ** 2 + 2 * inertia / (radius * loaded)
+        # the car (with the free wheels' spin) and the driven wheels spun up by the torque
+        inertial_mass = mass + 2 * inertia / free_radius ** 2 + 2 * inertia / (radius * loaded)
         if prescribed:
             wanted = a_ref[i - 1] + (v_ref[i - 1] - v[i - 1]) / limits.lag_s
             force = inertial_mass * wanted + resistance
@@ -236,8 +243,8 @@ def launch_description(scene):
             "drive_accel_mps2": limits.drive_accel_mps2,
             "traction_accel_mps2": limits.traction_accel_mps2,
             "max_accel_mps2": limits.max_accel_mps2, "limited_by": limits.limited_by,
-            "lag_s": limits.lag_s, "peak_mu": limits.peak_mu,
-            "front_load_N": limits.front_load_N,
+            "lag_s": limits.lag_s, "peak_mu": limits.peak_mu, "driven_axle": limits.driven_axle,
+            "driven_load_N": limits.driven_load_N,
             "shortest_launch_s": limits.shortest_launch_s(timeline.speed_mps),
             "predicted_speed_at_place_a_kph": predicted_speed_at_place_a_kph(scene, timeline,
                                                                              limits),

@@ -6,9 +6,9 @@ were checked once, where it was loaded (``scene.load.check_scene``, ``scene.limi
 import dataclasses
 import logging
 
-from pydrake.common.value import AbstractValue
+import numpy as np
 from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
-from pydrake.systems.framework import DiagramBuilder, InputPortIndex
+from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import (
     LogVectorOutput, MatrixGain, PortSwitch, TrajectorySource)
 
@@ -19,7 +19,7 @@ from drake_car.model.anti_roll_bar import anti_roll_bar_gain
 from drake_car.model.car import add_car
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import add_drive_actuators
-from drake_car.model.geometry import design_axle_loads_N
+from drake_car.model.geometry import design_axle_loads_N, steering_sign
 from drake_car.model.loading import read_tyre
 from drake_car.model.steering import add_steering_column, column_strut, release_schedule
 from drake_car.model.struts import declare_strut_friction, make_strut_friction
@@ -31,6 +31,7 @@ from drake_car.sim.actuation import ActuationWiring
 from drake_car.sim.drive_wiring import add_drive, driveshafts
 from drake_car.sim.driver_wiring import (
     add_path_driver, drive_torque_input, external_outputs, rack_command)
+from drake_car.sim.car_diagram import CASES, CarDiagram
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
@@ -39,38 +40,6 @@ from drake_car.systems.tyre import TyreSystem
 
 log = logging.getLogger(__name__)
 _NOTED = set()  # tyre files whose load note was logged (once per file and car per process)
-
-
-@dataclasses.dataclass
-class CarDiagram:
-    scene: Scene
-    diagram: object
-    plant: object
-    scene_graph: object
-    car: object  # model.car.CarModel
-    tyre: object  # the TyreSystem
-    friction: object  # the StrutFriction of both struts, or None
-    pacer: object  # the SAP pacer's model instance, or None
-    loggers: dict = dataclasses.field(default_factory=dict)  # group -> VectorLogSink
-    log_columns: dict = dataclasses.field(default_factory=dict)  # group -> column names
-    velocity_logger: object = None  # the car's state every step (frozen-step count)
-    case_port: object = None  # the Diagram's input selecting the lane change's case, or None
-    # An external-driver Diagram's exported ports (sim.driver_wiring): name -> port.
-    inputs: dict = dataclasses.field(default_factory=dict)
-    outputs: dict = dataclasses.field(default_factory=dict)
-    driver: object = None  # a !PathFollower scene's PathDriver, or None
-
-    def plant_context(self, root_context):
-        return self.plant.GetMyContextFromRoot(root_context)
-
-    def select_case(self, root_context, case):
-        """A branchable Diagram's lane-change case (a value fixed in the context)."""
-        # The switch's input 0 is its selector; the cases' commands are its inputs 1 and 2.
-        self.case_port.FixValue(root_context,
-                                AbstractValue.Make(InputPortIndex(1 + CASES.index(case))))
-
-
-CASES = ("a", "b")
 
 
 def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
@@ -194,6 +163,14 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
             m.rack(scene.end_time_s) if isinstance(m, LaneChange) else m.rack(), 1))
         rack.set_name("rack_command")
         rack_port = rack.get_output_port(0)
+    if not (external_driver or isinstance(scene.steering, PathFollower)) and (
+            steering_sign(scene.car) < 0):
+        # A manoeuvre's rack travel is a front-steer linkage's (left steers left): a rack
+        # behind the axle travels the other way (a driver's command is the rack's own).
+        mirror = builder.AddSystem(MatrixGain(-np.eye(2)))
+        mirror.set_name("rack_behind_the_axle")
+        builder.Connect(rack_port, mirror.get_input_port())
+        rack_port = mirror.get_output_port()
     wiring.connect("rack", desired=rack_port)
     if column.pairs is not None:
         _let_go(builder, plant, car, scene, column, wiring)

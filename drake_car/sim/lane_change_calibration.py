@@ -7,7 +7,7 @@ one profile per car, used for every friction set of its study and mirrored for c
 left out, ``scene.launch``): the shipped Escort's calibration where the content of its recorded
 inputs is the scene's, else a cached calibration of the same inputs, else one made here and
 cached (``sim.lane_change_cache``). A run that stops before phase III needs none. ``simulate``
-(``sim.simulate.Runner``), the sweeps and the studies call it before they run, so the saved
+(``sim.simulate.SceneRunner``), the sweeps and the studies call it before they run, so the saved
 scene holds the profile that ran; they give it the runner (``run``: scene -> Run) that the
 calibration's runs go through.
 

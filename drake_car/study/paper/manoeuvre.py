@@ -103,8 +103,8 @@ def manoeuvre_section(s):
              + f"; the speed profile asks {la['profile_peak_accel_mps2']:.2f} m/s² at its peak. "
              f"This car's drive allows {la['drive_accel_mps2']:.2f} m/s² (its wheel torque "
              f"limit through its rolling radius and mass with the wheels' spin inertia), its "
-             f"front tyres' grip {la['traction_accel_mps2']:.2f} m/s² (peak μ "
-             f"{la['peak_mu']:.2f} at the front axle's {la['front_load_N']:.0f} N during the "
+             f"{la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² (peak μ "
+             f"{la['peak_mu']:.2f} at the driven axle's {la['driven_load_N']:.0f} N during the "
              f"launch, 90 % of it [EST]): it is limited by {la['limited_by']}, its shortest "
              f"launch {la['shortest_launch_s']:g} s, its speed controller's lag "
              f"{la['lag_s']:.2f} s" + (". It follows the profile" if follows else

@@ -151,6 +151,13 @@ def summary_text(rows):
     return "\n".join(lines)
 
 
+def _track_m(study, runs):
+    """The road's tracks' distance: the study's, or the car's front track."""
+    if study.track_m is not None or not runs:
+        return study.track_m
+    return next(iter(runs.values())).scene.car.front.track_m
+
+
 def write_outputs(out, rows, runs, study, wall_s):
     """DIR/outcomes.csv, the figures and DIR/report.md of ``rows`` (``analysis.collect``);
     ``runs``: name -> a finished run (.scene, .history) for the spectra."""
@@ -193,7 +200,8 @@ def write_outputs(out, rows, runs, study, wall_s):
         f"analysis wall time {wall_s:.0f} s. Road: ISO 8608 (law/road/iso8608.py), one seed "
         f"({study.seed}) for every class and speed (class B is class A's road doubled, C is "
         f"B's doubled), {study.road_length_m:g} m, 0.05 m samples, 0.011-2.83 cycles/m, two "
-        f"tracks {study.track_m} m apart with the isotropic coherence. The car speeds up at "
+        f"tracks {_track_m(study, runs):g} m apart with the isotropic coherence. The car "
+        "speeds up at "
         f"0.57 g, then {study.settle_window_s:g} s settles and {study.window_s:g} s is analysed "
         "at constant speed; logged every 2 ms (Nyquist 250 Hz > Wk's 80 Hz); step 1 ms, twin "
         "at 0.5 ms. μd = 0.75 μs.", "",
