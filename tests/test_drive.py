@@ -14,7 +14,7 @@ from drake_car.model.drive import rolling_radius
 from drake_car.model.geometry import design_axle_loads_N
 from drake_car.scene.manoeuvres import Timeline, speed_profile
 from drake_car.sim.simulate import simulate
-from drake_car.study.paper.calibration import lane_change_metrics
+from drake_car.scene.manoeuvre_targets import lane_change_metrics
 
 TIMELINE = Timeline()
 TARGET_MPS = 60 / 3.6

@@ -19,7 +19,7 @@ from drake_car.scene.scene import VerticalOnly
 from drake_car.scene.load import SceneError
 from drake_car.sim.monitor import DivergenceError
 from drake_car.sim.simulate import SceneRunner, simulate
-from drake_car.study.paper.calibration import lane_change_metrics
+from drake_car.scene.manoeuvre_targets import lane_change_metrics
 from drake_car.systems.failure import SimulationFailure
 
 DMAX = StrutFrictionParameters().dmax_translation_m

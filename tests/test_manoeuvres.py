@@ -15,7 +15,7 @@ from drake_car.scene.manoeuvres import (
 
 def test_rack_trajectory_is_the_akima_spline_and_continuous():
     timeline = Timeline()
-    manoeuvre = LaneChange(case="a", timeline=timeline, amplitude_m=0.009)
+    manoeuvre = LaneChange(case="a", timeline=timeline, amplitude_m=0.009, second_lobe=1.0)
     trajectory = manoeuvre.rack()
     _, t3, t4, end = timeline.boundaries()
     times, values = manoeuvre.knots()

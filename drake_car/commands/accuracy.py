@@ -47,6 +47,8 @@ from drake_car.results.provenance import provenance  # noqa: E402
 from drake_car.scene.load import load_scene  # noqa: E402
 from drake_car.law.errors import InputError  # noqa: E402
 from drake_car.scene.limits import check_limits  # noqa: E402
+from drake_car.sim.lane_change_calibration import adapted  # noqa: E402
+from drake_car.sim.simulate import simulate  # noqa: E402
 from drake_car.study.paper.claims import place_values, study_columns  # noqa: E402
 from drake_car.sweep.runner import run_scenes  # noqa: E402
 
@@ -152,8 +154,10 @@ def main(argv=None):
         p.error(f"--explicit_runs {explicit_runs} must be among --runs {runs}")
     fast = steps_of(p, args.fast_steps, "fast_steps")
     explicit = steps_of(p, args.explicit_steps, "explicit_steps")
-    bases = {r: scaled(load_scene(args.scene, child=r, scene_text=args.scene_text or None),
-                       args.scale_time) for r in runs}
+    # each run as it runs on its car (its lane change's rack found), then shortened
+    bases = {r: scaled(adapted(load_scene(args.scene, child=r, scene_text=args.scene_text
+                                          or None), run=simulate)[0], args.scale_time)
+             for r in runs}
     cases = {}
     for r in runs:
         for dt in fast:

@@ -11,6 +11,12 @@ scenes/paper_study.yaml. Writes into DIR:
   diagram_overview.svg    the Diagram of the replayed run at a glance; diagram.svg every port
   <run>/replay.html       the Meshcat replay of the highest-friction run of case a
 
+  The manoeuvre adapts to the car: a launch left out is the paper's 3 s or as long as the car's
+  drive allows, the lane change's rack is calibrated for the car (once, cached by its inputs'
+  content; the shipped Escort's calibration where they match); the report says how (section
+  "The manoeuvre as it ran") and flags, as stderr does, a run that is off its speed at place a,
+  its 3.7 m or its parallel end (study.paper.manoeuvre).
+
   outcomes.csv            one row per run (or mirror pair) and outcome: run, outcome, value,
                           error, unit, step_s, converged, tolerance, observed_order,
                           steps_tried_s, values_by_step, run_wall_s, solver_error, limited_by;
@@ -50,7 +56,9 @@ from drake_car.results.files import (
     write_csv, write_diagram_overview_svg, write_diagram_svg, write_json, write_run)
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
+from drake_car.sim.simulate import simulate as simulate_here
 from drake_car.study.paper.figures import all_figures
+from drake_car.study.paper.manoeuvre import manoeuvre_summary, prepare
 from drake_car.study.paper.claims import (
     check_study_scenes, evaluate_claims, friction_of, study_columns, study_runs)
 from drake_car.study.paper.outcomes import (
@@ -95,6 +103,7 @@ def main(argv=None):
     cli.check_out(args)
     scenes = load_scene_file(args.scene, args.scene_text or None)
     roles = check_study_scenes(scenes)  # before any work
+    scenes, calibration = prepare(scenes, run=simulate_here)
     replayed = None
     if not args.no_html:
         case_a = [n for n, s in scenes.items() if getattr(s.manoeuvre, "case", None) == "a"]
@@ -160,6 +169,7 @@ def main(argv=None):
         if refinement is not None:
             refinement["job_cpu_s"] = s["cpu_s"]
         s["paper_drive"] = paper_drive
+        s["manoeuvre"] = manoeuvre_summary(runs, calibration)
         write_json(out / "summary.json", s)
         (out / "report.md").write_text(report(s))
         claims = s["claims"]

@@ -7,18 +7,26 @@
                     source
   DIR/replay.html   the Meshcat replay, when the scene's visualization is !MeshcatReplay
 
-Bad input (a scene key, a value out of range, a tyre file, an output folder): one line on
-stderr naming it, exit status 2, nothing written.
+The manoeuvre adapts to the car: a launch left out is the paper's 3 s or as long as the car's
+drive allows (scene.launch); a lane change without amplitude_m and second_lobe has its rack
+calibrated for the car the first time its inputs are seen (a few runs, kept in the calibration
+cache: python -m drake_car.sim.lane_change_cache), and scene.yaml holds what ran. A run that
+does not do what its manoeuvre says (its speed at place a, a lane change's shift or its
+parallel end: scene.manoeuvre_targets) is warned of on stderr. Bad input (a scene key, a
+value out of range, a tyre file, an output folder): one line on stderr naming it, exit status
+2, nothing written.
 
   drake-car-run --scene scenes/paper_study.yaml --child a_3 --out results/a_3
   drake-car-run --scene scenes/car.yaml:bump --scene_text "plant: {time_step: 5e-4}" \\
       --out results/bump
 """
 
+import logging
 import sys
 
 from drake_car.commands import cli
 from drake_car.scene.load import load_scene, parse_scene_option
+from drake_car.scene.manoeuvre_targets import manoeuvre_failures
 from drake_car.results.files import write_run
 from drake_car.results.folder import output_folder
 from drake_car.sim.simulate import simulate
@@ -37,6 +45,10 @@ def main(argv=None):
     with output_folder(args.out) as out:
         run = simulate(scene, progress=not args.quiet)
         write_run(run, out)
+    off = manoeuvre_failures(run.history, run.scene.manoeuvre)
+    if off:
+        logging.getLogger("drake_car.commands.run").warning(
+            "%s does not do what its manoeuvre says: %s", scene.name, "; ".join(off))
     print(f"{scene.name}: {run.history['t'][-1]:g} s simulated in {run.wall_s:.1f} s "
           f"({run.frozen_sap_steps} frozen SAP steps); wrote {args.out}", file=sys.stderr)
 

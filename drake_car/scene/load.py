@@ -23,6 +23,7 @@ from drake_car.scene.guard import (
     PLAIN_NAME, announce_large_road, check_entry_name, check_yaml, read_yaml_file)
 from drake_car.scene.raw import SceneError, check_raw as _check_raw, guarded as _guarded
 from drake_car.scene.raw import typed as _typed
+from drake_car.scene.launch import resolve_launch
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene
 from drake_car.scene.vertical import resolve_vertical
@@ -193,7 +194,9 @@ def _check_own_name(raw, where):
 
 def check_scene(scene: Scene, where="scene") -> Scene:
     """Every section's check, the cross-checks and the limits (``scene.limits``): the one place
-    a scene's values are checked; raises SceneError naming the key."""
+    a scene's values are checked; raises SceneError naming the key. The values derived from
+    others are set here, so the saved scene shows them: the tyres' vertical data from their
+    file (``scene.vertical``), a launch left out (``scene.launch``)."""
     try:
         for section in ("car", "friction", "tyres", "road", "manoeuvre", "drive", "simulator",
                         "logging", "visualization"):
@@ -208,6 +211,7 @@ def check_scene(scene: Scene, where="scene") -> Scene:
         _check_cross(scene)
         scene = resolve_vertical(scene)
         check_limits(scene)
+        scene = resolve_launch(scene)
     except ParameterError as e:
         raise SceneError(f"{where}: {e}{derived_note(scene, e.key)}") from None
     announce_large_road(scene, where)

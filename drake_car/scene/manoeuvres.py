@@ -6,11 +6,15 @@ paper's ref. [1]) through the knots of one sine period.
 A driving manoeuvre has the paper's phases (section 4): I the car at rest (``settle_s``), then
 speeding up to ``speed_kph`` in ``speed_up_s``; II straight ahead; III the steering manoeuvre
 (``steer_s``); IV calming down (``calm_s``).
+
+What adapts to the car: a launch left out (``speed_up_s`` None) is the paper's 3 s if the car's
+drive can follow it, else as long as its drive allows (``scene.launch``, resolved where the
+scene is loaded); a lane change without ``amplitude_m`` and ``second_lobe`` has its rack
+calibrated for the car that runs (``sim.lane_change_calibration``). What a manoeuvre must do,
+and whether a run did it: ``scene.manoeuvre_targets``.
 """
 
 import dataclasses
-import importlib.resources
-import json
 import typing
 
 import numpy as np
@@ -27,14 +31,21 @@ MAX_DURATION_S = 600.0
 MAX_SPEED_KPH = 250.0
 # The lane change's rack knots: one sine period at unit amplitude over ``steer_s``.
 LANE_CHANGE_KNOT_SHAPE = (0.0, 0.7071, 1.0, 0.7071, 0.0, -0.7071, -1.0, -0.7071, 0.0)
+# The paper's launch (section 4): 60 km/h in 3 s.
+PAPER_SPEED_UP_S = 3.0
+# The paper's lane change (section 4): the track moves 3.7 m sideways.
+PAPER_SHIFT_M = 3.7
 
 
 @dataclasses.dataclass
 class Timeline:
-    """The paper's phases I-IV (s) and the cruising speed (km/h)."""
+    """The paper's phases I-IV (s) and the cruising speed (km/h). ``speed_up_s`` None: the
+    paper's 3 s if the car's drive can follow it, else as long as its drive allows
+    (``scene.launch.resolve_launch``, where the scene is loaded: the saved scene holds the
+    number); a number is the launch as given."""
 
     settle_s: float = 0.8
-    speed_up_s: float = 3.0
+    speed_up_s: typing.Optional[float] = None
     straight_s: float = 1.2
     steer_s: float = 2.4
     calm_s: float = 2.6
@@ -42,13 +53,16 @@ class Timeline:
 
     def check(self):
         nonnegative(self, "settle_s", "straight_s", "calm_s")
-        positive(self, "speed_up_s", "steer_s", "speed_kph")
+        positive(self, "steer_s", "speed_kph")
+        if self.speed_up_s is not None:
+            positive(self, "speed_up_s")
         if self.speed_kph > MAX_SPEED_KPH:
             raise ParameterError("speed_kph", self.speed_kph,
                                  f"must be <= {MAX_SPEED_KPH:g} km/h (a passenger car)")
         if self.duration_s > MAX_DURATION_S:
+            # the one that made it long
             longest = max(("settle_s", "speed_up_s", "straight_s", "steer_s", "calm_s"),
-                          key=lambda name: getattr(self, name))  # the one that made it long
+                          key=lambda name: getattr(self, name) or 0.0)
             raise ParameterError(longest, getattr(self, longest),
                                  f"makes the run {self.duration_s:g} s long; runs are limited "
                                  f"to {MAX_DURATION_S:g} s of simulated time")
@@ -58,9 +72,15 @@ class Timeline:
     def speed_mps(self):
         return self.speed_kph / 3.6
 
+    @property
+    def launch_s(self):
+        """The launch's length (s): ``speed_up_s``, or the paper's 3 s while it is unresolved
+        (a timeline made in Python and not yet run)."""
+        return PAPER_SPEED_UP_S if self.speed_up_s is None else self.speed_up_s
+
     def boundaries(self):
         """Start times of phases II, III, IV and the end time."""
-        t2 = self.settle_s + self.speed_up_s
+        t2 = self.settle_s + self.launch_s
         t3 = t2 + self.straight_s
         t4 = t3 + self.steer_s
         return t2, t3, t4, t4 + self.calm_s
@@ -78,7 +98,7 @@ def speed_profile(t, timeline: Timeline, blend_s=0.3):
     """Car speed (m/s), distance (m) and acceleration (m/s²) at times ``t``: at rest while
     settling, then an acceleration with its jerk smoothed over ``blend_s`` at both ends,
     reaching the target speed exactly ``speed_up_s`` after it began; constant afterwards."""
-    t0, duration, target = timeline.settle_s, timeline.speed_up_s, timeline.speed_mps
+    t0, duration, target = timeline.settle_s, timeline.launch_s, timeline.speed_mps
     blend = min(blend_s, duration / 3)
     times = np.linspace(0.0, duration, 2001)
     jerk_up = np.clip(times / blend, 0, 1)
@@ -162,51 +182,69 @@ class Straight(DrivingManoeuvre):
         return _hold_at_zero(self.end_s)
 
 
-def calibrated_lane_change():
-    """(amplitude_m, second_lobe) of the calibrated lane change: the package's
-    ``lane_change_profile.json``, written by ``drake-car-calibrate``."""
-    text = importlib.resources.files(__package__).joinpath(
-        "lane_change_profile.json").read_text()
-    profile = json.loads(text)["profile"]
-    return float(profile["amplitude_m"]), float(profile["second_lobe"])
-
-
 @dataclasses.dataclass
 class LaneChange(DrivingManoeuvre):
-    """The paper's lane change (Fig. 13): the rack follows an Akima spline through one sine
-    period of ``amplitude_m`` during phase III; case "a" starts with a left turn, "b" is its
-    mirror image. ``second_lobe`` scales the return turn. The defaults are calibrated so that
-    the default car's track shifts 3.7 m in the 2.4 s at 60 km/h and ends parallel."""
+    """The paper's lane change (Fig. 13), defined by what it does: the car's track moves
+    ``shift_m`` sideways during phase III (``timeline.steer_s``, at ``timeline.speed_kph``) and
+    ends parallel to its start; case "a" starts with a left turn, "b" is its mirror image. The
+    rack follows an Akima spline through one sine period of ``amplitude_m`` during phase III,
+    ``second_lobe`` scaling the return turn. Both None (the default): calibrated for the car
+    that runs, case a, so that it does what the manoeuvre says (``sim.lane_change_calibration``:
+    the shipped Escort's calibration where its inputs match, else cached by content); both
+    given: that rack, as given (an open-loop input; the run is still checked against
+    ``shift_m``)."""
 
     case: str = "a"
     timeline: Timeline = dataclasses.field(default_factory=Timeline)
-    amplitude_m: float = dataclasses.field(
-        default_factory=lambda: calibrated_lane_change()[0])
-    second_lobe: float = dataclasses.field(
-        default_factory=lambda: calibrated_lane_change()[1])
+    shift_m: float = PAPER_SHIFT_M
+    amplitude_m: typing.Optional[float] = None
+    second_lobe: typing.Optional[float] = None
+
+    @property
+    def calibrated(self):
+        """Whether the rack's profile is known (given, or calibrated for the car)."""
+        return self.amplitude_m is not None and self.second_lobe is not None
 
     def _check_own(self):
         one_of(self, "case", ("a", "b"))
-        positive(self, "amplitude_m", "second_lobe")
-        if self.amplitude_m > 0.1:
-            raise ParameterError("amplitude_m", self.amplitude_m,
-                                 "must be <= 0.1 m (a rack's whole stroke is about ±0.07 m)")
-        if not 0.5 <= self.second_lobe <= 2.0:
+        positive(self, "shift_m")
+        if self.shift_m > 10.0:
+            raise ParameterError("shift_m", self.shift_m,
+                                 "must be <= 10 m (a lane change: the paper's 3.7 m)")
+        if self.amplitude_m is not None:
+            positive(self, "amplitude_m")
+            if self.amplitude_m > 0.1:
+                raise ParameterError("amplitude_m", self.amplitude_m, "must be <= 0.1 m (a "
+                                     "rack's whole stroke is about ±0.07 m)")
+        if self.second_lobe is not None and not 0.5 <= self.second_lobe <= 2.0:
             raise ParameterError("second_lobe", self.second_lobe, "must lie in [0.5, 2]")
+        if (self.amplitude_m is None) != (self.second_lobe is None):
+            given = "amplitude_m" if self.second_lobe is None else "second_lobe"
+            raise ParameterError(given, getattr(self, given),
+                                 "goes with amplitude_m and second_lobe both given (a rack "
+                                 "as given) or neither (calibrated for the car)")
 
     def knots(self):
+        if not self.calibrated:
+            raise ValueError("LaneChange: the rack's profile is not calibrated yet; run the "
+                             "scene (sim.simulate calibrates it for the car) or give "
+                             "amplitude_m and second_lobe")
         shape = np.array(LANE_CHANGE_KNOT_SHAPE)
         shape[shape < 0] *= self.second_lobe
         sign = 1.0 if self.case == "a" else -1.0
         times = np.linspace(0.0, 1.0, len(shape))
         return times, sign * self.amplitude_m * shape
 
-    def rack(self):
+    def rack(self, until_s=None):
         """Rack displacement vs time (m, rack to the left +) through the whole run: zero, the
         Akima spline through the knots during phase III, zero. Two zero knots are added before
         and after, one knot spacing apart: on such flat stretches Akima's slopes are exactly
-        zero, so the rack rests before and after and joins the rest with zero slope."""
+        zero, so the rack rests before and after and joins the rest with zero slope.
+        ``until_s``: the run's end; a run that ends before phase III needs no calibrated
+        profile (its rack rests throughout)."""
         _, t3, t4, end = self.timeline.boundaries()
+        if not self.calibrated and until_s is not None and until_s <= t3:
+            return _hold_at_zero(end)
         times, values = self.knots()
         times = t3 + times * self.timeline.steer_s
         h = times[1] - times[0]

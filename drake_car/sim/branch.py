@@ -22,6 +22,7 @@ from pydrake.systems.analysis import InitializeParams
 from drake_car.scene.load import scene_hash
 from drake_car.scene.manoeuvres import LaneChange
 from drake_car.scene.scene import NoVisualization, Scene
+from drake_car.sim.lane_change_calibration import adapted
 from drake_car.sim.simulate import SceneRunner, simulate
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
@@ -60,7 +61,9 @@ def families(scenes: dict):
 
 def simulate_family(scenes: list, *, progress=False):
     """Runs scenes that share a prefix (``branch_point``), the prefix once; returns their Runs
-    in order. A single scene is simply run."""
+    in order. A single scene is simply run. The scenes are run as they adapt to their car
+    (``sim.lane_change_calibration``), before their prefixes are compared."""
+    scenes = [adapted(s, run=simulate)[0] for s in scenes]
     points = {branch_point(s) for s in scenes}
     if len(scenes) > 1 and (len(points) != 1 or None in points):
         raise ValueError("simulate_family: the scenes do not share a prefix: "

@@ -158,14 +158,16 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         switch.set_name("lane_change_case")
         for case in CASES:
             source = builder.AddSystem(TrajectorySource(
-                dataclasses.replace(scene.manoeuvre, case=case).rack(), 1))
+                dataclasses.replace(scene.manoeuvre, case=case).rack(scene.end_time_s), 1))
             source.set_name(f"rack_command_{case}")
             builder.Connect(source.get_output_port(0), switch.DeclareInputPort(f"case_{case}"))
         case_index = builder.ExportInput(switch.get_port_selector_input_port(),
                                          "lane_change_case")
         rack_port = switch.get_output_port(0)
     else:
-        rack = builder.AddSystem(TrajectorySource(scene.manoeuvre.rack(), 1))
+        m = scene.manoeuvre  # a lane change's profile is needed only if the run reaches it
+        rack = builder.AddSystem(TrajectorySource(
+            m.rack(scene.end_time_s) if isinstance(m, LaneChange) else m.rack(), 1))
         rack.set_name("rack_command")
         rack_port = rack.get_output_port(0)
     if not (external_driver or isinstance(scene.steering, PathFollower)) and (

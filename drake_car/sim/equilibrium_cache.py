@@ -14,7 +14,9 @@ The folder: ``$DRAKE_CAR_CACHE_DIR`` if set, else the platform's cache folder
 (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux, ``~/Library/Caches`` on macOS,
 ``%LOCALAPPDATA%`` on Windows) + ``drake_car/equilibrium``. Clearing it is always safe:
 ``python -m drake_car.sim.equilibrium_cache --clear`` (or delete the folder).
-``DRAKE_CAR_CACHE_DIR=off`` turns the disk cache off.
+``DRAKE_CAR_CACHE_DIR=off`` turns the disk cache off. The lane change's calibrations
+(``sim.lane_change_cache``) keep theirs beside it (``cache_root``), written the same way
+(``write_entry``).
 """
 
 import dataclasses
@@ -36,18 +38,24 @@ _PACKAGE = Path(__file__).resolve().parents[1]  # drake_car/
 _FIELDS = [f.name for f in dataclasses.fields(Equilibrium)]
 
 
-def cache_folder():
-    """Where entries live (None: the disk cache is off)."""
+def cache_root():
+    """The folder of drake_car's disk caches (None: off)."""
     chosen = os.environ.get(ENVIRONMENT_VARIABLE)
     if chosen:
-        return None if chosen == "off" else Path(chosen).expanduser() / "equilibrium"
+        return None if chosen == "off" else Path(chosen).expanduser()
     if sys.platform == "darwin":
         base = Path.home() / "Library" / "Caches"
     elif os.name == "nt":
         base = Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local"))
     else:
         base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "drake_car" / "equilibrium"
+    return base / "drake_car"
+
+
+def cache_folder():
+    """Where entries live (None: the disk cache is off)."""
+    root = cache_root()
+    return None if root is None else root / "equilibrium"
 
 
 @functools.lru_cache(maxsize=1)
@@ -95,7 +103,13 @@ def store(settle_yaml, equilibrium: Equilibrium):
     if folder is None:
         return
     key = entry_key(settle_yaml)
-    text = json.dumps({"key": key, "equilibrium": dataclasses.asdict(equilibrium)})
+    write_entry(folder, key, json.dumps({"key": key,
+                                         "equilibrium": dataclasses.asdict(equilibrium)}))
+
+
+def write_entry(folder, key, text):
+    """Writes ``folder``/``key``.json atomically (a temporary file in the same folder, then
+    ``os.replace``); a folder that cannot be written leaves it unwritten."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{key}.", suffix=".tmp")

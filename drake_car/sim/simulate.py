@@ -23,6 +23,7 @@ from drake_car.sim.build import build_diagram
 from drake_car.sim.driver_wiring import manoeuvre_outcome
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
+from drake_car.sim.lane_change_calibration import adapted
 from drake_car.sim.resolve import Resolver
 from drake_car.sim.simulation import Runner, logged_history
 from drake_car.systems.tyre import WHEELS
@@ -112,7 +113,11 @@ class SceneRunner(Runner):
                  built=None, context=None):
         """``branchable``: build the Diagram so that other cases can continue its context
         (``sim.branch``); ``built`` and ``context``: continue such a Diagram's saved context
-        with this scene's case instead of building anew."""
+        with this scene's case instead of building anew (its scene as it runs already). A
+        scene built anew is run as it adapts to its car (``sim.lane_change_calibration``: a
+        launch left out, a lane change's rack), which the Run's scene then holds."""
+        if built is None:
+            scene = adapted(scene, run=simulate)[0]
         self.scene = scene
         visual = scene.visualization
         shows = isinstance(visual, (MeshcatLive, MeshcatReplay))

@@ -61,6 +61,7 @@ from drake_car.results.record import run_from_texts
 from drake_car.scene.load import dump_scene, scene_hash
 from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
+from drake_car.sim.lane_change_calibration import adapted_scenes
 from drake_car.sim.simulate import simulate
 from drake_car.sweep.scheduler import CONNECT_TIMEOUT_S, check_scheduler
 from drake_car.sweep.store import (
@@ -183,9 +184,9 @@ class Job:
 
 
 def jobs_of(scenes: dict):
-    """key -> Job for name -> Scene, in the scenes' order."""
+    """key -> Job for name -> Scene (as it runs: adapted to its car here, not on a worker)."""
     jobs = {}
-    for name, scene in scenes.items():
+    for name, scene in adapted_scenes(scenes, run=simulate).items():
         parts = key_parts(scene)
         key = run_key(parts)
         if key in jobs:
@@ -292,9 +293,8 @@ def failure(name, record, error=None):
 
 def missing(scenes, out_dir, *, rerun_failed=False, jobs=None):
     """The Jobs of ``scenes`` to run: those ``out_dir`` has no run folder for, or one that
-    failed of kind ``INFRASTRUCTURE_FAILURE``, or (``rerun_failed``) any failed one.
-    ``jobs``: ``jobs_of(scenes)`` when the caller has them (a run's key costs ~8 ms: its
-    scene dumped to YAML)."""
+    failed of kind ``INFRASTRUCTURE_FAILURE``, or (``rerun_failed``) any failed one. ``jobs``:
+    ``jobs_of(scenes)`` when the caller has them (a run's key: ~8 ms, its scene as YAML)."""
     runs = Path(out_dir) / "runs"
     jobs = jobs if jobs is not None else jobs_of(scenes)
     todo = []
@@ -364,7 +364,7 @@ def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
     raises the first failed run's error, in the scenes' order (``failure``), after all have
     run; with ``skip_failed`` leaves the failed runs out instead (their record is in
     ``out_dir``, where ``rerun_failed`` runs them again as ``run_sweep`` does)."""
-    jobs = jobs_of(scenes)
+    jobs = jobs_of(scenes := adapted_scenes(scenes, run=simulate))  # each as it runs
     results = {}
     if not jobs:
         return {}

@@ -20,7 +20,7 @@ def speed_up_load_change(history, timeline: Timeline, wheel="fl", blend_s=0.3):
     change (mean over the constant acceleration, without ``speed_profile``'s jerk ramps)."""
     t, fz = history["t"], np.asarray(history[f"Fz_{wheel}_N"])
     t0, t2 = timeline.settle_s, timeline.boundaries()[0]
-    blend = min(blend_s, timeline.speed_up_s / 3)
+    blend = min(blend_s, timeline.launch_s / 3)
     rest = float(fz[min(int(np.searchsorted(t, t0)), len(t) - 1)])
     speed_up, steady = (t >= t0) & (t < t2), (t >= t0 + blend) & (t < t2 - blend)
     peak = rest - float(np.min(fz[speed_up])) if speed_up.any() else 0.0

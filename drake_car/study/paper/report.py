@@ -13,8 +13,8 @@ import math
 
 from drake_car.study.paper.local_route import error_method, local_error, resolution_section
 from drake_car.study.paper.measures import claim_measures, verdict
-from drake_car.study.paper.claims import (
-    DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, run_of)
+from drake_car.study.paper.claims import DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, run_of
+from drake_car.study.paper import manoeuvre
 from drake_car.study.paper.previous_car import previous_car_section
 
 
@@ -171,7 +171,7 @@ def report(s):
     lines = ["# The paper's study: lane change with strut friction", "",
              f"Made by `{prov['command']}`, commit {(prov['git_commit'] or 'unknown')[:10]}, drake "
              f"{prov['drake']}, {prov['created_utc']}; {s['wall_s']:.0f} s wall in all.", ""]
-    lines += _terms(s)
+    lines += manoeuvre.manoeuvre_flag(s) + _terms(s) + manoeuvre.manoeuvre_section(s)
     lines += _claims_table(s)
     lines += _numbers_table(s)
     lines += _disagreements(s)
@@ -223,9 +223,9 @@ def _terms(s):
     ph, pl, tl = s["phases_s"], s["places_s"], s["timeline_s"]
     lines += [
         f"- **phases** (on every figure): I {_span(ph['I'])}, at rest ({tl['settle_s']:g} s) "
-        f"then the speed-up to {tl['speed_kph']:g} km/h; II {_span(ph['II'])}, straight at "
-        f"speed; III {_span(ph['III'])}, the lane change (3.7 m); IV {_span(ph['IV'])}, "
-        "straight in the new lane.",
+        f"then the speed-up to {tl['speed_kph']:g} km/h{manoeuvre.launch_words(s)}; II "
+        f"{_span(ph['II'])}, straight at speed; III {_span(ph['III'])}, the lane change "
+        f"({manoeuvre.shift_words(s)}); IV {_span(ph['IV'])}, straight in the new lane.",
         "- **Δd**: the change of a front strut's overlap (rod in the cylinder) from the car's "
         "static equilibrium at rest; + = the rod goes in (the body comes down).",
         f"- **places a and b**: the paper's \"before\" and \"after\" positions, here averages "

@@ -1,0 +1,156 @@
+"""The paper's manoeuvre as it ran on the study's car: the launch (how long, what the car's drive
+allows, when the car reached its speed), the lane change's rack (calibrated for the car: where
+the calibration came from, its residual and cost), and each run's check of what its manoeuvre
+says it does (speed at place a, lateral shift, heading at the end of the lane change:
+``scene.manoeuvre_targets``). A run that is off is flagged at the top of the report and on
+stderr (a logging warning): it is never reported silently as the paper's manoeuvre."""
+
+import dataclasses
+import logging
+
+import numpy as np
+
+from drake_car.scene.launch import launch_description
+from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH, manoeuvre_measures
+from drake_car.scene.manoeuvres import PAPER_SHIFT_M, PAPER_SPEED_UP_S
+from drake_car.sim.lane_change_calibration import adapted
+
+log = logging.getLogger(__name__)
+
+
+def prepare(scenes: dict, *, run):
+    """(name -> the scene as it runs, the lane change's calibration or None): each scene's
+    launch resolved and its rack's profile found or calibrated for the car (once for the
+    study: its runs share their inputs), a calibration's runs made by ``run``."""
+    out, calibration = {}, None
+    for name, scene in scenes.items():
+        out[name], found = adapted(scene, run=run)
+        calibration = calibration or found
+    return out, calibration
+
+
+def reached_s(history, timeline):
+    """When the car's speed first came within ``SPEED_TOLERANCE_KPH`` of the timeline's, after
+    the launch began (s; None: never)."""
+    t, v = np.asarray(history["t"]), 3.6 * np.asarray(history["speed_mps"])
+    near = np.flatnonzero((t >= timeline.settle_s)
+                          & (np.abs(v - timeline.speed_kph) <= SPEED_TOLERANCE_KPH))
+    return float(t[near[0]] - timeline.settle_s) if near.size else None
+
+
+def manoeuvre_summary(runs: dict, calibration):
+    """The manoeuvre's part of the study's summary (JSON-ready) from ``runs`` (name -> sim
+    Run): the launch, the calibration, each run's measures and the runs that are off; warns
+    on stderr for each run that is off."""
+    first = next(iter(runs.values()))
+    checks, off = {}, {}
+    for name, r in runs.items():
+        measures = manoeuvre_measures(r.history, r.scene.manoeuvre)
+        checks[name] = [dataclasses.asdict(m) | {"ok": m.ok} for m in measures]
+        bad = [m.describe() for m in measures if not m.ok]
+        if bad:
+            off[name] = bad
+            log.warning("run %s does not do the paper's manoeuvre: %s", name, "; ".join(bad))
+    m = first.scene.manoeuvre
+    cal = None
+    if calibration is not None:
+        cal = {k: calibration.get(k) for k in ("profile", "residual", "cost", "source",
+                                                 "content_sha256")}
+    return {"launch": launch_description(first.scene) | {
+                "reached_within_tolerance_after_s": reached_s(first.history, m.timeline),
+                "reached_run": first.scene.name},
+            "shift_m": m.shift_m, "steer_s": m.timeline.steer_s,
+            "profile": {"amplitude_m": m.amplitude_m, "second_lobe": m.second_lobe},
+            "calibration": cal, "checks": checks, "off": off}
+
+
+def launch_words(s):
+    """" in 3 s" after "the speed-up to 60 km/h" in the report's phases."""
+    man, launch = s.get("manoeuvre"), s["timeline_s"]["speed_up_s"]
+    return f" in {PAPER_SPEED_UP_S if launch is None else launch:g} s" + (
+        "" if man is None else " (the launch: see *The manoeuvre as it ran*)")
+
+
+def shift_words(s):
+    man = s.get("manoeuvre")
+    shift = PAPER_SHIFT_M if man is None else man["shift_m"]
+    return f"{shift:g} m sideways asked"
+
+
+def manoeuvre_flag(s):
+    """The report's warning lines at its top when a run did not do its manoeuvre."""
+    man = s.get("manoeuvre")
+    if not man or not man["off"]:
+        return []
+    runs = "; ".join(f"{n}: {', '.join(lines)}" for n, lines in sorted(man["off"].items()))
+    return [f"**Warning: not the paper's manoeuvre.** {runs}. The verdicts below are about "
+            "these runs as they ran, not about the paper's lane change (see *The manoeuvre as "
+            "it ran*).", ""]
+
+
+def manoeuvre_section(s):
+    """The report's section on the launch, the rack and each run's check."""
+    man = s.get("manoeuvre")
+    if not man:
+        return []
+    la = man["launch"]
+    paper = la["speed_up_s"] == la["paper_speed_up_s"]
+    follows = la["profile_peak_accel_mps2"] <= la["max_accel_mps2"]
+    lines = ["## The manoeuvre as it ran", "",
+             f"- **launch**: 0 to {la['speed_kph']:g} km/h in {la['speed_up_s']:g} s"
+             + (" (the paper's)" if paper else f" (the paper's {la['paper_speed_up_s']:g} s is "
+                "more than this car's drive allows)")
+             + f"; the speed profile asks {la['profile_peak_accel_mps2']:.2f} m/s² at its peak. "
+             f"This car's drive allows {la['drive_accel_mps2']:.2f} m/s² (its wheel torque "
+             f"limit through its rolling radius and mass with the wheels' spin inertia), its "
+             f"{la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² (peak μ "
+             f"{la['peak_mu']:.2f} at the driven axle's {la['driven_load_N']:.0f} N during the "
+             f"launch, 90 % of it [EST]): it is limited by {la['limited_by']}, its shortest "
+             f"launch {la['shortest_launch_s']:g} s, its speed controller's lag "
+             f"{la['lag_s']:.2f} s" + (". It follows the profile" if follows else
+                                       ". It falls behind the profile and catches up")
+             + f"; predicted {la['predicted_speed_at_place_a_kph']:.1f} km/h at place a "
+             f"(±{la['predicted_speed_error_kph']:g} km/h, the prediction's error measured on "
+             f"the shipped Escort; `drake_car/scene/launch.py`). The launch lasted "
+             + ("beyond the run" if la["reached_within_tolerance_after_s"] is None else
+                f"{la['reached_within_tolerance_after_s']:.2f} s")
+             + f" for the car (run {la['reached_run']}: from its start until the car's speed "
+             f"came within {SPEED_TOLERANCE_KPH:g} km/h of {la['speed_kph']:g} km/h)."]
+    profile, cal = man["profile"], man["calibration"]
+    rack = (f"- **rack**: the lane change's profile, {1e3 * (profile['amplitude_m'] or 0):.3f} "
+            f"mm with a second lobe of {profile['second_lobe'] or 0:.4f}")
+    if profile["amplitude_m"] is None:
+        lines.append("- **rack**: none calibrated (the runs stop before the lane change).")
+    elif cal is None:
+        lines.append(rack + ", as the scenes give it (not calibrated here).")
+    else:
+        r, cost = cal["residual"] or {}, cal["cost"]
+        lines.append(
+            rack + f", calibrated for this car: {cal['source']} (its inputs' content "
+            f"`{cal['content_sha256'][:16]}`); with lubricated struts, case a, it moved the "
+            f"track {r.get('shift_m', float('nan')):.4f} m with a heading change of "
+            f"{_number(r.get('heading_change_deg', float('nan')), 'deg')}° at the end of the "
+            "lane change"
+            + ("" if not cost else f"; the calibration took {cost['runs']} runs, "
+               f"{cost['wall_s']:.0f} s wall, {cost['cpu_s']:.0f} s CPU") + ".")
+    lines += ["", "Each run against what its manoeuvre says it does "
+              "(`drake_car/scene/manoeuvre_targets.py`):", ""]
+    names = sorted(man["checks"])
+    whats = [m["what"] for m in man["checks"][names[0]]]
+    lines.append("| run | " + " | ".join(whats) + " |")
+    lines.append("|---" * (len(whats) + 1) + "|")
+    first = man["checks"][names[0]]
+    lines.append("| asked | " + " | ".join(f"{_number(m['target'], m['unit'])} ± "
+                                            f"{m['tolerance']:.2g} {m['unit']}"
+                                            for m in first) + " |")
+    for name in names:
+        cells = [("-" if m["value"] is None else _number(m["value"], m["unit"]))
+                 + ("" if m["ok"] else " **OFF**") for m in man["checks"][name]]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return lines + [""]
+
+
+def _number(value, unit):
+    """``value`` to the digits its check needs; no "-0.0000"."""
+    shown = f"{value:.{ {'km/h': 2, 'm': 3}.get(unit, 4)}f}"
+    return shown.lstrip("-") if float(shown) == 0 else shown
