@@ -180,6 +180,10 @@ class FrontSuspensionParameters:
         if not self.rod_radius_r_m < 0.05:
             raise ParameterError("rod_radius_r_m", self.rod_radius_r_m,
                                  "must be < 0.05 m (passenger-car rods: 10-14 mm)")
+        if not 0.002 <= self.rack_gain_m_per_rad <= 0.05:
+            raise ParameterError("rack_gain_m_per_rad", self.rack_gain_m_per_rad,
+                                 "must lie in [0.002, 0.05] m/rad (passenger-car steering: "
+                                 "rack travel per steering-wheel radian)")
         if not abs(self.spring_offset_m) < 0.1:
             raise ParameterError("spring_offset_m", self.spring_offset_m,
                                  "must lie in (-0.1, 0.1) m (the spring seat's radius)")
@@ -194,6 +198,12 @@ class FrontSuspensionParameters:
     rack_half_length_m: float = 0.29
     rack_stroke_m: float = 0.07
     tie_rod_outer_m: typing.List[float] = _vector(0.15, 0.595, 0.2646)
+    # [EST] rack travel per steering-wheel radian (the pinion's pitch radius; 50 mm of rack per
+    # pinion turn, within the 40-55 mm of unassisted passenger-car racks: the 0.07 m stroke in
+    # 1.4 turns to lock). The steering wheel's torque is the rack's force times it; with the
+    # linkage's road-wheel angle per rack travel it sets the overall steering ratio
+    # (drake-car-handling reports it).
+    rack_gain_m_per_rad: float = 0.008
 
 
 @dataclasses.dataclass
