@@ -11,6 +11,7 @@ HMMWV tyre has Kx < 0 above about 2.4 FNOMIN), which matters only if the car get
 """
 
 import math
+from pathlib import Path
 
 from drake_car.law.tyre.property_file import TirFileError
 
@@ -111,7 +112,7 @@ def combined_slip_note(tyre):
     side_force = any(getattr(tyre, k) != 0.0 for k in ("RVY1", "RVY2", "RVY3"))
     acts = left + (["the κ-induced side force (RVY*)"] if side_force else []) + [
         "the aligning moment's combined-slip terms"]
-    return (f"{tyre.name} has no combined-slip fit for "
+    return (f"{Path(tyre.name).name} has no combined-slip fit for "
             + " or ".join({"RBX1": "Fx", "RBY1": "Fy"}[m.split()[0]] for m in missing)
             + f" ({', '.join(missing)}): combined slip leaves "
             + ("them" if len(missing) == 2 else "it")

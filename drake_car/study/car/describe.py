@@ -136,5 +136,5 @@ def tyre_words(t):
             ", combined slip" if t["combined_slip"] else ", pure slip (combined_slip: false)")
     text = f"{how} of `{t['file']}` ({t['form']}{slip})"
     if t["combined_note"]:
-        text += f". combined_slip: true has less effect than its name says: {t['combined_note']}"
+        text += f"; **combined_slip: true acts less than its name says**: {t['combined_note']}"
     return text

@@ -29,9 +29,10 @@ YES_NO = {True: "yes", False: "no", None: "-"}
 
 def jam_scenes(study, parts):
     """name -> scene of the runs refined: those of ``study.accuracy.parts`` whose μs is at
-    least ``jam_mu_s`` (``parts``: role -> {name: (scene, values)})."""
+    least ``jam_mu_s``, and every run of the user's change (``parts["compare"]``: its answer
+    carries its own error at any μs) (``parts``: role -> {name: (scene, values)})."""
     a = study.accuracy
-    scenes = {}
+    scenes = {name: scene for name, (scene, _) in parts.get("compare", {}).items()}
     for role in a.parts:
         for name, (scene, _) in parts.get(role, {}).items():
             if scene.friction is not None and scene.friction.law.mu_s >= a.jam_mu_s * (1 - 1e-9):
@@ -121,7 +122,10 @@ def summary(refined, rows, study):
                     "values": r[f"{key}_values"], "step_s": r[f"{key}_step_s"]}
                    for r in rows for key in DECIDING
                    if r["name"] in names and r.get(f"{key}_converged") == "no"]
-    return {"jam_mu_s": a.jam_mu_s, "parts": list(a.parts),
+    compared = any(part == "compare" for part in by_part)
+    return {"jam_mu_s": a.jam_mu_s,
+            "parts": list(a.parts) + (["and the user's change (compare) at any μs"]
+                                      if compared else []),
             "tolerances": tolerances(study), "finest_step_s": a.finest_step_s,
             "budget_s": a.budget_s, "runs": len(names), "by_part": by_part,
             "failed": list(refined.failed), "not_converged": unconverged,

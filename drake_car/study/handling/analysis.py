@@ -132,8 +132,10 @@ def analyse(runs, fit_range):
     step_metrics = handling.step_steer(hs, steer_rad=step_rack, cog_offset_m=a, mass_kg=mass)
     step_wheel = handling.step_steer(hs, steer_rad=handling.road_wheel_steer_rad(hs),
                                      cog_offset_m=a, mass_kg=mass)
+    gain = car.front.rack_gain_m_per_rad
     return {
         "fit_range_mps2": list(fit_range), "steering": steering,
+        "rack_gain_m_per_rad": gain, "steering_ratio": steering_ratio(steering, gain),
         "mass_kg": car.mass.total_mass_kg, "cog_offset_m": a, "wheelbase_m": L,
         "t_steer_s": {name: handling.first_time(r.history["phase"], r.history["t"], "III")
                       for name, r in runs.items()},
@@ -154,6 +156,18 @@ def analyse(runs, fit_range):
             "series": step_series(hs, step_rack, a, mass)},
         "budget": budget,
     }
+
+
+def steering_ratio(steering, rack_gain_m_per_rad):
+    """The overall steering ratio at the centre: the steering wheel's angle per road-wheel
+    angle, 1 / (c dδ/dq) with c the car's rack gain (m of rack per steering-wheel radian) and
+    dδ/dq the linkage's mean road-wheel angle per rack travel at q = 0 (the kinematics table,
+    chassis fixed)."""
+    rack = np.asarray(steering["rack_m"], float)
+    mean = np.radians(0.5 * (np.asarray(steering["steer_left_deg"])
+                             + np.asarray(steering["steer_right_deg"])))
+    slope = float(np.interp(0.0, rack, np.gradient(mean, rack)))
+    return 1.0 / (rack_gain_m_per_rad * slope) if slope else float("nan")
 
 
 def step_series(h, rack_steer, cog_offset, mass):

@@ -15,7 +15,8 @@ from drake_car.study.car.describe import car_facts, car_lines
 from drake_car.study.paper import report_sections as sections
 from drake_car.study.paper.measures import claim_measures, verdict
 from drake_car.study.paper.claims import (
-    DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, FrictionSet, numbers_text, run_of, set_roles)
+    DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, FrictionSet, numbers_text, place_values,
+    run_of, set_roles)
 from drake_car.study.paper.previous_car import applies, previous_car_section
 from drake_car.study.paper.report_format import (  # noqa: F401 (the report's formatting)
     CLAIM_FIGURES, flip, quantity, span)
@@ -61,6 +62,8 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
                      "IV": [t4, float(t[-1])]},
         "places_s": {"a": [t3 - 0.3, t3], "b": [float(t[-1]) - 0.5, float(t[-1])]},
         "rod_positions": rod_positions,
+        "speed_at_place_a_kph": {name: 3.6 * place_values(r.columns, timeline, "speed_mps")[0]
+                                 for name, r in study.items()},
         "rod_shift_b_minus_a_m": shifts,
         "split_changes": {name: {k: outcomes[(name, k)] for k in (
             "lr_change_m", "split_change", "split_change_N", "wheel_torque_change_Nm")}

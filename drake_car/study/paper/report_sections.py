@@ -85,14 +85,26 @@ def _why_one(s):
     rows = s["deciding_numbers"][0]
     hold, peak, steady = (_measure(rows, k)["value"]
                           for k in ("hold_N", "unload_peak_N", "unload_steady_N"))
-    mu_s = s["friction_sets"][s["set_roles"]["high"]]["mu_s"]
+    high = s["set_roles"]["high"]
+    mu_s = s["friction_sets"][high]["mu_s"]
     normal = hold / mu_s if mu_s else 0.0
+    target = s["timeline_s"]["speed_kph"]
+    speeds = [v for name, v in s.get("speed_at_place_a_kph", {}).items()
+              if s["runs"][name]["friction_set"] == high]
+    still = min(speeds, default=target)
+    accelerating = still < target - 1.0
     verdict = ("both exceed what static friction holds: the rod breaks free as the car "
-               "accelerates and again when the acceleration ends" if steady > hold else
+               "accelerates" + ("" if accelerating else " and again when the acceleration ends")
+               if steady > hold else
                "the steady change is within what static friction holds, the peak is not: the "
                "rod breaks free as the acceleration sets in" if peak > hold else
                "both are within what static friction holds")
-    return (f"the strut's normal force at rest is N = {normal:.0f} N (eq. 4, from the strut's "
+    first = (f"the car was still accelerating when the lane change began ({still:.1f} of "
+             f"{target:g} km/h at place a, set {high}): the acceleration had not ended, so no "
+             "rod could return after it, and the claim is not judged on the paper's "
+             "manoeuvre; " if accelerating else "")
+    return (first + f"the strut's normal force at rest is N = {normal:.0f} N (eq. 4, from "
+            "the strut's "
             f"bending, which the ball-joint offset b and the spring line set), so static "
             f"friction holds at most μs·N = {hold:.0f} N of axial load; the speed-up unloads "
             f"each front wheel by {steady:.0f} N steady (at constant acceleration) and by "
@@ -151,11 +163,13 @@ def places_tables(s):
     lines += ["", "## The lasting front left-right split, and the steering-wheel torque it "
               "leaves (from place a to place b)", "",
               f"Steady changes (window averages), each run at the finest step it tried, ± its "
-              f"converged error. The split is Fz_fl - Fz_fr, in newtons and in % of the front "
+              f"converged error where it was refined. The split is Fz_fl - Fz_fr, in newtons "
+              f"and in % of the front "
               f"corner load at rest ({corner:.0f} N: half the front axle's); the steering-wheel "
-              f"torque is what the driver holds to keep the car on its course, the rack force "
-              f"times the rack gain c = {1e3 * c:g} mm/rad (unassisted steering; + turns "
-              "left): a lasting change is a torque the driver must hold on a straight road.",
+              f"torque is what the driver holds to keep the rack where the manoeuvre puts it "
+              f"(straight ahead after the lane change), the rack force times the rack gain c = "
+              f"{1e3 * c:g} mm/rad (unassisted steering; + towards a left turn): a lasting change "
+              "is a torque the driver must hold to drive straight on.",
               "", "| run | change of Δd_left - Δd_right [mm] | split change [N] | split change "
               "[% of the corner load] | steering-wheel torque change [N m] | steps tried [ms] |",
               "|---|---|---|---|---|---|"]

@@ -21,7 +21,8 @@ import typing
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.law.road.iso8608 import road_profile
-from drake_car.scene.load import check_scene, load_scene
+from drake_car.scene.load import SceneError, check_scene, load_scene
+from drake_car.scene.manoeuvres import Straight
 from drake_car.scene.scene import Friction
 from drake_car.law.friction.frd import StrutFrictionParameters
 
@@ -44,13 +45,24 @@ class RideStudy:
     # ``window_s`` analysed
     settle_window_s: float = 1.0
     window_s: float = 6.0
-    # the car's front tracks' width for the road's coherence (m): the Escort's front track
-    track_m: float = 1.39
+    # the tracks' width for the road's coherence (m); None: the car's front track
+    track_m: typing.Optional[float] = None
 
 
-def base_scene():
+def base_scene(scene_text=None, scene=None):
+    """``scenes/ride.yaml``'s ``ride`` with the values the scene file ``scene`` ((FILE, ENTRY
+    or None): the user's car) states laid over it, then ``scene_text``."""
     from drake_car.data import resource
-    return load_scene(resource("scenes") / "ride.yaml", child="ride")
+    base = load_scene(resource("scenes") / "ride.yaml", child="ride")
+    if scene is not None:
+        base = load_scene(scene[0], child=scene[1], base=base)
+    if scene_text:
+        base = load_scene(scene_text=scene_text, base=base)
+    if not isinstance(base.manoeuvre, Straight):
+        raise SceneError(f"the ride study drives straight at constant speed; its base scene's "
+                         f"manoeuvre must be !Straight, not !{type(base.manoeuvre).__name__} "
+                         "(leave the manoeuvre out of --scene/--scene_text)")
+    return base
 
 
 def speed_up_s(speed_kph):
@@ -78,7 +90,8 @@ def ride_scene(study: RideStudy, road_class, speed_kph, mu_s, *, half=False, bas
         speed_up_s=speed_up_s(speed_kph), straight_s=0.0,
         steer_s=study.settle_window_s + study.window_s, calm_s=0.0)
     manoeuvre = dataclasses.replace(base.manoeuvre, timeline=timeline)
-    road = _road(road_class, study.seed, study.road_length_m, study.track_m)
+    track = base.car.front.track_m if study.track_m is None else study.track_m
+    road = _road(road_class, study.seed, study.road_length_m, track)
     car, friction = base.car, None
     if mu_s > 0:
         law = dataclasses.replace(StrutFrictionParameters(), mu_s=float(mu_s),
@@ -112,10 +125,11 @@ def analysed_from_s(scene, study: RideStudy):
     return t.settle_s + t.speed_up_s + study.settle_window_s
 
 
-def ride_scenes(study: RideStudy, order=None):
+def ride_scenes(study: RideStudy, order=None, scene_text=None, scene=None):
     """{name: scene} of every run and its half-step twin; ``order``: a list of (class, speed)
-    to run first (the rest follow)."""
-    base = base_scene()
+    to run first (the rest follow); ``scene`` and ``scene_text`` laid over the base scene
+    (``base_scene``)."""
+    base = base_scene(scene_text, scene)
     cells = [(c, v) for v in study.speeds_kph for c in study.classes]
     if order:
         cells = [c for c in order if c in cells] + [c for c in cells if c not in order]
