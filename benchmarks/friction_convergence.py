@@ -17,7 +17,7 @@ from drake_car.law.friction.frd import StrutFrictionParameters, shape_max_slope 
 from drake_car.results.files import write_csv, write_json  # noqa: E402
 from drake_car.results.folder import output_folder  # noqa: E402
 from drake_car.results.provenance import provenance  # noqa: E402
-from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
+from drake_car.sim.rigs.friction import RigOptions, simulate_rig  # noqa: E402
 
 LAW = StrutFrictionParameters(mu_s=0.2, mu_d=0.15)
 CASE = dict(mass_kg=30.0, normal_force_N=500.0, spring_Npm=2.0e4, force_amp_N=150.0,

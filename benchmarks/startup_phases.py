@@ -36,12 +36,12 @@ def main():
     from drake_car.data import resource
     from drake_car.results.files import write_run
     from drake_car.scene.load import load_scene
-    from drake_car.sim.simulate import Runner
+    from drake_car.sim.simulate import SceneRunner
     mark("import the rest of drake_car.commands.run")
     scene = load_scene(resource("scenes/paper_study.yaml"), child=args.run,
                        scene_text=f"plant: {{time_step: {args.time_step_s!r}}}")
     mark("load the scene")
-    runner = Runner(scene)
+    runner = SceneRunner(scene)
     mark("build (numba's CPU target and cached functions loaded)")
     runner.start()
     mark("static equilibrium (disk cache) and Initialize")

@@ -32,7 +32,7 @@ from step_cost import plant_alone_simulator
 from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene
-from drake_car.sim.simulate import Runner
+from drake_car.sim.simulate import SceneRunner
 
 
 def main():
@@ -56,7 +56,7 @@ def main():
     }
     advance = {}
     for name, text in texts.items():
-        runner = Runner(load_scene(resource("scenes/paper_study.yaml"), child=args.run,
+        runner = SceneRunner(load_scene(resource("scenes/paper_study.yaml"), child=args.run,
                                    scene_text=text))
         runner.start()
         runner.advance_to(args.t0_s)

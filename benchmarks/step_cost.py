@@ -40,7 +40,7 @@ from drake_car.results.files import write_json
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
 from drake_car.sim.build import build_diagram
-from drake_car.sim.simulate import Runner
+from drake_car.sim.simulate import SceneRunner
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.tyre import TyreSystem
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
@@ -68,10 +68,10 @@ def _since(began):
 
 
 def whole_diagram(scene, t0, span, *, column_form="reflected"):
-    """(wall, CPU) seconds for ``span`` simulated seconds from ``t0``, and the Runner. The span
-    runs as a study run does: in the divergence monitor's chunks (``Runner.advance_to``).
+    """(wall, CPU) seconds for ``span`` simulated seconds from ``t0``, and the runner. The
+    span runs as a study run does: in the divergence monitor's chunks (``Runner.advance_to``).
     ``column_form``: a hands-off scene's steering column (``model.steering.COLUMN_FORMS``)."""
-    runner = Runner(scene, built=build_diagram(scene, column_form=column_form))
+    runner = SceneRunner(scene, built=build_diagram(scene, column_form=column_form))
     runner.start()
     runner.advance_to(t0)
     began = _clocks()
@@ -164,7 +164,7 @@ def callback_split(scene, t0, span, steps):
                     spent[_name] += time.perf_counter_ns() - began
             setattr(cls, method, timed)
     try:
-        runner = Runner(scene)
+        runner = SceneRunner(scene)
         runner.start()
         runner.advance_to(t0)
         for name in spent:

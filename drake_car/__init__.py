@@ -21,7 +21,7 @@ _EXPORTS = {
     "SceneError": "drake_car.scene.load",
     # the one build function and the one runner
     "build_diagram": "drake_car.sim.build",
-    "CarDiagram": "drake_car.sim.build",
+    "CarDiagram": "drake_car.sim.car_diagram",
     "simulate": "drake_car.sim.simulate",
     "Run": "drake_car.sim.simulate",
     # the car's systems

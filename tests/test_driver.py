@@ -16,7 +16,8 @@ from drake_car.scene.paths import PathFollower
 from drake_car.sim.build import build_diagram
 from drake_car.sim.driver_wiring import (
     CHASSIS_COLUMNS, rack_per_steer_m_per_rad, speed_law, steering_law)
-from drake_car.sim.simulate import logged_history, static_equilibrium
+from drake_car.sim.simulate import static_equilibrium
+from drake_car.sim.simulation import logged_history
 from drake_car.systems.path_driver import (
     PathDriver, SpeedLaw, SteeringLaw, preview_gain_rad_per_m)
 

@@ -18,7 +18,7 @@ from drake_car.scene.manoeuvres import Timeline
 from drake_car.scene.scene import VerticalOnly
 from drake_car.scene.load import SceneError
 from drake_car.sim.monitor import DivergenceError
-from drake_car.sim.simulate import Runner, simulate
+from drake_car.sim.simulate import SceneRunner, simulate
 from drake_car.study.paper.calibration import lane_change_metrics
 from drake_car.systems.failure import SimulationFailure
 
@@ -176,7 +176,7 @@ def test_divergence_stops_with_a_clear_error():
 
 
 def _runner_at(t, text=None):
-    runner = Runner(car_scene("straight", text or "simulator: {end_time_s: 1.0}"))
+    runner = SceneRunner(car_scene("straight", text or "simulator: {end_time_s: 1.0}"))
     runner.start()
     runner.advance_to(t)
     return runner
@@ -199,7 +199,8 @@ def test_a_car_thrown_off_a_flat_road_is_stopped():
     (the monitor's energy count starts at its first check, after the lift: falling gains
     nothing): stopped once the loads have been zero beyond simulator.airborne_limit_s, within
     one check period (10 ms)."""
-    runner = Runner(car_scene("straight", "simulator: {end_time_s: 1.0, airborne_limit_s: 0.1}"))
+    runner = SceneRunner(car_scene("straight",
+                                   "simulator: {end_time_s: 1.0, airborne_limit_s: 0.1}"))
     runner.start()
     _chassis_moved(runner, dz_m=1.0)
     with pytest.raises(DivergenceError, match=r"diverged at t = 0\.1[12]\d* s: left the road: "
@@ -245,11 +246,11 @@ def test_the_tyres_rolling_radius_work_is_counted_not_stopped():
     tir = "tests/data/tyres/Sedan_Pac02Tire.tir"
     text = (f"{{tyres: !MagicFormula {{tir_file: {tir}}}, manoeuvre: !Straight {{timeline: "
             "{settle_s: 0.8, speed_up_s: 6.0, straight_s: 0.5, speed_kph: 60.0}}}")
-    runner = Runner(car_scene("straight", text))
+    runner = SceneRunner(car_scene("straight", text))
     runner.start()
     runner.advance_to(7.3)
     assert runner.monitor.stats.energy_gain_J < runner.monitor._slack_J
-    uncounted = Runner(car_scene("straight", text))
+    uncounted = SceneRunner(car_scene("straight", text))
     uncounted.monitor._road = dataclasses.replace(uncounted.monitor._road, wheels=())
     uncounted.start()
     with pytest.raises(DivergenceError, match="gained energy"):

@@ -261,8 +261,8 @@ def test_an_interrupt_stops_a_run_between_monitor_chunks(signum, raised):
 
     from conftest import paper_scene
     from drake_car.results.folder import terminate_as_exit
-    from drake_car.sim.simulate import Runner
-    runner = Runner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
+    from drake_car.sim.simulate import SceneRunner
+    runner = SceneRunner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
     runner.start()
     timer = threading.Timer(1.0, os.kill, (os.getpid(), getattr(signal, signum)))
     timer.start()

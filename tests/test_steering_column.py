@@ -12,7 +12,7 @@ from drake_car.model.steering import COLUMN_LAW
 from drake_car.scene.load import hands_off_release_s
 from drake_car.scene.scene import HeldRack
 from drake_car.sim.build import build_diagram
-from drake_car.sim.simulate import Runner
+from drake_car.sim.simulate import SceneRunner
 from drake_car.study.design.runs import hands_off
 from drake_car.study.design.spec import load_study, outcomes
 
@@ -60,7 +60,7 @@ def test_reflected_column_pulls_as_the_coupled_one():
         scene.logging, channels=["chassis", "steering", "struts", "tyres"]))
     histories = {}
     for form in ("coupler", "reflected"):
-        runner = Runner(scene, built=build_diagram(scene, column_form=form))
+        runner = SceneRunner(scene, built=build_diagram(scene, column_form=form))
         runner.start()
         runner.advance_to(scene.end_time_s)
         histories[form] = runner.finish().history

@@ -14,7 +14,7 @@ from pydrake.multibody.tree import PrismaticJoint, SpatialInertia, UnitInertia
 from pydrake.systems.analysis import Simulator
 
 from drake_car.law.friction.frd import StrutFrictionParameters, shape_max_slope
-from drake_car.sim.rig import RigOptions, build_rig, simulate_rig
+from drake_car.sim.rigs.friction import RigOptions, build_rig, simulate_rig
 from drake_car.systems.friction_pairs import Strut, declare_pairs
 from drake_car.systems.strut_friction import StrutFriction
 

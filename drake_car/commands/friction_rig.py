@@ -6,8 +6,10 @@ switched off after force_off_s; a spring of spring_Npm from the block to a fixed
 Writes DIR/history.csv (t, x_m, v_mps [relative to the belt], creep_m, mu, phase [0 static,
 1 kinetic], friction_N [on the block]) and DIR/history.png.
 
-The rig runs under the divergence monitor, and the explicit (reference) scheme refuses a step
-above its stability limit before it runs.
+The rig runs on the one runner, as a car's scene does: under the divergence monitor, with a
+progress bar (not with --quiet), Ctrl-C/SIGTERM taken between the monitor's chunks; DIR/rig.json
+holds the options, the law, how the run went (wall and CPU time, steps) and its provenance. The
+explicit (reference) scheme refuses a step above its stability limit before it runs.
 
 Example (break-away under a slow ramp):
   drake-car-friction-rig --out results/rig --force_rate_Nps 1000 --duration_s 1
@@ -27,7 +29,7 @@ from drake_car.scene.scene import Friction  # noqa: E402
 from drake_car.results.files import write_csv, write_json  # noqa: E402
 from drake_car.results.folder import output_folder  # noqa: E402
 from drake_car.results.provenance import provenance  # noqa: E402
-from drake_car.sim.rig import RigOptions, simulate_rig  # noqa: E402
+from drake_car.sim.rigs.friction import RigOptions, run_rig  # noqa: E402
 
 
 def main(argv=None):
@@ -64,14 +66,16 @@ def main(argv=None):
         v0_mps=args.v0_mps, time_step_s=args.time_step_s, scheme=friction.scheme)
     options.check(friction.law)
     with output_folder(args.out) as out:
-        history = simulate_rig(options, friction.law, duration_s=args.duration_s)
+        run = run_rig(options, friction.law, duration_s=args.duration_s,
+                      progress=not args.quiet)
+        history = run.history
         write_csv(out / "history.csv", history)
         write_json(out / "rig.json", provenance(
             options=dataclasses.asdict(options), law=dataclasses.asdict(friction.law),
-            duration_s=args.duration_s))
+            duration_s=args.duration_s, run=run.record()))
         plot(history, out / "history.png", options, friction.law)
     print(f"final x = {history['x_m'][-1]:.6g} m, v = {history['v_mps'][-1]:.3g} m/s; "
-          f"wrote {args.out}/history.csv")
+          f"{run.wall_s:.1f} s wall, {run.cpu_s:.1f} s CPU; wrote {args.out}/history.csv")
 
 
 def plot(h, path, options, law):

@@ -1,19 +1,26 @@
-"""The strut side-load friction rig (drake_car/sim/strut_rig.py): the car's own front strut
-clamped at its top mount, the knuckle loaded with a constant side force, the rod stroked
-sinusoidally through the rig's load cell. Writes into DIR:
+"""The strut side-load friction rig (drake_car/sim/rigs/strut.py): the front strut of the
+scene's car (--scene, --scene_text; default: the shipped car) clamped at its top mount, the
+knuckle loaded with a side force, the rod stroked sinusoidally through the rig's load cell.
+The rig is loaded as the car's strut at rest (drake_car/sim/rigs/at_rest.py): the side force
+at the top mount that gives the strut the normal force (eq. 4) the car's has at its static
+equilibrium; the study's side loads are multiples of it. The scene's dry friction law, when it
+has one, makes the synthetic loop (and gives the paper's sets its Δv, Δmax, shapes). Writes
+into DIR:
 
+  at_rest.json     the car's strut at rest: its reaction, N, and the rig's side load and N
   loops.png        hysteresis loops (load cell force against stroke) for μs 0.2 and 0.4 at
-                   side forces 500, 1000, 2000 N (10 mm, 0.5 Hz)
+                   0.5, 1 and 2 times the car's side load at rest (10 mm, 0.5 Hz)
   side_load.png    break-away and sliding force against side force, with μ·N of eq. (4)
   rig.csv          one row per run: break-away, sliding, apparent μs, measured μd, the friction
                    moment (with the rod's rotation), amplitude and frequency variants
   synthetic.csv, fit.json
-                   the synthetic measured loop (the rig with μs 0.3, μd 0.22, 1000 N, plus
-                   noise) and the fit to it
+                   the synthetic measured loop (the rig with the scene's law, else μs 0.3,
+                   μd 0.22, at the car's side load at rest, plus noise) and the fit to it
   measured_fit.json  with --measured CSV (columns stroke_m, force_N, one row per sample at
                    --sample_period_s; the test's --side_force_N, --amplitude_m, --frequency_hz)
 
 Example:  drake-car-strut-rig --out results/strut_rig
+          drake-car-strut-rig --out results/my_strut --scene my_car.yaml:settle
           drake-car-strut-rig --out results/fit --measured loop.csv \\
               --side_force_N 1500 --amplitude_m 0.01 --frequency_hz 1 --sample_period_s 0.001
 """
@@ -25,15 +32,14 @@ import numpy as np
 
 from drake_car.commands import cli
 from drake_car.law.checks import ParameterError
-from drake_car.model.parameters import CarParameters
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
-from drake_car.sim.strut_rig import StrutRigOptions
+from drake_car.sim.rigs.strut import StrutRigOptions
 from drake_car.study.rig.analysis import LoopError
 from drake_car.study.rig.figures import plot_loops, plot_side_load
 from drake_car.study.rig.fit import fit_measured_loop
-from drake_car.study.rig.loops import SYNTHETIC_LAW, SYNTHETIC_NOISE, rig_study
+from drake_car.study.rig.loops import SYNTHETIC_NOISE, rig_study
 
 
 def read_loop(path):
@@ -49,7 +55,9 @@ def read_loop(path):
 
 
 def main(argv=None):
-    p = cli.parser(__doc__, name="strut_rig")
+    p = cli.parser(__doc__, name="strut_rig", scene=True,
+                   scene_help="the scene whose car's front strut is on the rig, FILE[:ENTRY] "
+                              "(default: the shipped car)")
     p.add_argument("--quick", action="store_true", help="three side loads, no variants")
     p.add_argument("--measured", default=None, help="a measured loop to fit (CSV)")
     p.add_argument("--side_force_N", type=cli.positive("side_force_N"), default=1000.0)
@@ -58,7 +66,8 @@ def main(argv=None):
     p.add_argument("--sample_period_s", type=cli.positive("sample_period_s"), default=1e-3)
     args = p.parse_args(argv)
     cli.check_out(args)
-    car = CarParameters()
+    scene = cli.scene_from_args(args)
+    car = scene.car
     start, cpu = time.time(), time.process_time()
     if args.measured:
         stroke, force = read_loop(args.measured)
@@ -76,20 +85,31 @@ def main(argv=None):
         print(f"μs = {fit.mu_s:.4f} ± {fit.mu_s_ci95:.4f}, μd = {fit.mu_d:.4f} ± "
               f"{fit.mu_d_ci95:.4f} (95 %)")
         return
-    loops, rows, (options, h, stroke, force, fit) = rig_study(car, quick=args.quick)
+    study = rig_study(scene, quick=args.quick)
+    options, h, stroke, force, fit = study.synthetic
+    rest = study.at_rest.summary()
     with output_folder(args.out) as out:
-        plot_loops(loops, out / "loops.png",
-                   "Strut side-load rig: the car's front strut, 10 mm at 0.5 Hz")
-        plot_side_load(rows, out / "side_load.png")
-        write_csv(out / "rig.csv", {k: [r[k] for r in rows] for k in rows[0]})
+        write_json(out / "at_rest.json", provenance(scene=scene.name, at_rest=rest))
+        plot_loops(study.loops, out / "loops.png",
+                   f"Strut side-load rig: {scene.name}'s front strut, side force at the top "
+                   f"mount, 10 mm at 0.5 Hz")
+        plot_side_load(study.rows, out / "side_load.png")
+        write_csv(out / "rig.csv", {k: [r[k] for r in study.rows] for k in study.rows[0]})
         write_csv(out / "synthetic.csv", {"t_s": h["t"], "stroke_m": stroke, "force_N": force})
         write_json(out / "fit.json", provenance(
-            true_mu_s=SYNTHETIC_LAW[0], true_mu_d=SYNTHETIC_LAW[1], noise=SYNTHETIC_NOISE,
-            side_force_N=options.side_force_N, fit=fit.summary(),
+            scene=scene.name, true_mu_s=study.synthetic_law.mu_s,
+            true_mu_d=study.synthetic_law.mu_d, noise=SYNTHETIC_NOISE,
+            side_force_N=options.side_force_N,
+            side_force_point_below_top_m=options.side_force_point_below_top_m,
+            fit=fit.summary(), runs=study.runs,
             wall_s=time.time() - start, cpu_s=time.process_time() - cpu))
-    print(f"synthetic loop (μs {SYNTHETIC_LAW[0]}, μd {SYNTHETIC_LAW[1]}): fitted μs = "
-          f"{fit.mu_s:.4f} ± {fit.mu_s_ci95:.4f}, μd = {fit.mu_d:.4f} ± {fit.mu_d_ci95:.4f} "
-          f"(95 %); wall {time.time() - start:.0f} s, CPU {time.process_time() - cpu:.0f} s")
+    print(f"the car's strut at rest: N = {rest['car_normal_N']:.1f} N; on the rig "
+          f"{rest['rig_side_force_N']:.1f} N at the top mount gives N = "
+          f"{rest['rig_normal_N']:.1f} N")
+    print(f"synthetic loop (μs {study.synthetic_law.mu_s:g}, μd {study.synthetic_law.mu_d:g}): "
+          f"fitted μs = {fit.mu_s:.4f} ± {fit.mu_s_ci95:.4f}, μd = {fit.mu_d:.4f} ± "
+          f"{fit.mu_d_ci95:.4f} (95 %); wall {time.time() - start:.0f} s, CPU "
+          f"{time.process_time() - cpu:.0f} s")
 
 
 def console():

@@ -38,16 +38,21 @@ def declare_strut_friction(plant, car, *, rotation, scheme):
     return declarations
 
 
+def strut_geometry(front):
+    """A front strut's geometry as ``friction_pairs.Strut`` takes it: the prismatic joint's
+    child is the cylinder (the knuckle), its frame Jc at the guide, q the rod's extension s:
+    the overlap is d = l - s, and the overlap's middle lies d/2 beyond Jc along the joint axis
+    (a(q) = -l/2 + q/2 along the axis); the rod's radius r."""
+    length = front.guide_length_l_m
+    return {"overlap_m": (length, -1.0), "moment_arm_offset_m": (-0.5 * length, 0.5),
+            "rod_radius_m": front.rod_radius_r_m}
+
+
 def make_strut_friction(plant, car, declarations, law: StrutFrictionParameters, *, scheme,
                         extra_struts=()):
     """One StrutFriction for both front struts (and ``extra_struts`` after them: a hands-off
-    column's pair). The prismatic joint's child is the cylinder (the knuckle), its frame Jc at
-    the guide, q the rod's extension s: the overlap is d = l - s, and the overlap's middle lies
-    d/2 beyond Jc along the joint axis."""
-    front = car.params.front
-    length = front.guide_length_l_m
-    struts = [Strut(pairs, side, overlap_m=(length, -1.0),
-                    moment_arm_offset_m=(-0.5 * length, 0.5),
-                    rod_radius_m=front.rod_radius_r_m)
+    column's pair), each of ``strut_geometry``."""
+    geometry = strut_geometry(car.params.front)
+    struts = [Strut(pairs, side, **geometry)
               for side, pairs in declarations.items()] + list(extra_struts)
     return StrutFriction(plant, struts, law, scheme=scheme, name="strut_friction")

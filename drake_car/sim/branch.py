@@ -22,7 +22,7 @@ from pydrake.systems.analysis import InitializeParams
 from drake_car.scene.load import scene_hash
 from drake_car.scene.manoeuvres import LaneChange
 from drake_car.scene.scene import NoVisualization, Scene
-from drake_car.sim.simulate import Runner, simulate
+from drake_car.sim.simulate import SceneRunner, simulate
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 
@@ -68,7 +68,7 @@ def simulate_family(scenes: list, *, progress=False):
     if len(scenes) == 1:
         return [simulate(scenes[0], progress=progress)]
     (_, t_branch), = points
-    first = Runner(scenes[0], progress=progress, branchable=True)
+    first = SceneRunner(scenes[0], progress=progress, branchable=True)
     first.start()
     first.advance_to(t_branch)
     saved = first.root.Clone()
@@ -77,11 +77,11 @@ def simulate_family(scenes: list, *, progress=False):
     first.advance_to(scenes[0].end_time_s)
     runs = [first.finish()]
     for scene in scenes[1:]:
-        runner = Runner(scene, progress=progress, built=first.built, context=saved.Clone())
+        runner = SceneRunner(scene, progress=progress, built=first.built, context=saved.Clone())
         _write_model_values(runner.built, runner.root)
         runner.simulator.Initialize(InitializeParams(suppress_initialization_events=True))
         # Starting at the branch time, the loggers sample that time again: the channels' logs
-        # keep it once (sim.simulate.logged_history), the every-step log is not a new step.
+        # keep it once (sim.simulation.logged_history), the every-step log is not a new step.
         runner.built.velocity_logger.FindMutableLog(runner.root).Clear()
         runner.monitor.resume(prefix_stats, prefix_last_v)
         runner.wall_s, runner.cpu_s = prefix_wall, prefix_cpu

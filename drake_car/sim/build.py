@@ -6,9 +6,8 @@ were checked once, where it was loaded (``scene.load.check_scene``, ``scene.limi
 import dataclasses
 import logging
 
-from pydrake.common.value import AbstractValue
 from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
-from pydrake.systems.framework import DiagramBuilder, InputPortIndex
+from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import (
     LogVectorOutput, MatrixGain, PortSwitch, TrajectorySource)
 
@@ -31,6 +30,7 @@ from drake_car.sim.actuation import ActuationWiring
 from drake_car.sim.drive_wiring import add_drive, driveshafts
 from drake_car.sim.driver_wiring import (
     add_path_driver, drive_torque_input, external_outputs, rack_command)
+from drake_car.sim.car_diagram import CASES, CarDiagram
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
@@ -39,38 +39,6 @@ from drake_car.systems.tyre import TyreSystem
 
 log = logging.getLogger(__name__)
 _NOTED = set()  # tyre files whose load note was logged (once per file and car per process)
-
-
-@dataclasses.dataclass
-class CarDiagram:
-    scene: Scene
-    diagram: object
-    plant: object
-    scene_graph: object
-    car: object  # model.car.CarModel
-    tyre: object  # the TyreSystem
-    friction: object  # the StrutFriction of both struts, or None
-    pacer: object  # the SAP pacer's model instance, or None
-    loggers: dict = dataclasses.field(default_factory=dict)  # group -> VectorLogSink
-    log_columns: dict = dataclasses.field(default_factory=dict)  # group -> column names
-    velocity_logger: object = None  # the car's state every step (frozen-step count)
-    case_port: object = None  # the Diagram's input selecting the lane change's case, or None
-    # An external-driver Diagram's exported ports (sim.driver_wiring): name -> port.
-    inputs: dict = dataclasses.field(default_factory=dict)
-    outputs: dict = dataclasses.field(default_factory=dict)
-    driver: object = None  # a !PathFollower scene's PathDriver, or None
-
-    def plant_context(self, root_context):
-        return self.plant.GetMyContextFromRoot(root_context)
-
-    def select_case(self, root_context, case):
-        """A branchable Diagram's lane-change case (a value fixed in the context)."""
-        # The switch's input 0 is its selector; the cases' commands are its inputs 1 and 2.
-        self.case_port.FixValue(root_context,
-                                AbstractValue.Make(InputPortIndex(1 + CASES.index(case))))
-
-
-CASES = ("a", "b")
 
 
 def build_diagram(scene: Scene, *, meshcat=None, branchable=False,

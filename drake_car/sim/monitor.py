@@ -99,6 +99,11 @@ class Monitor:
         self._last_v = None
 
     @property
+    def counts_steps(self):
+        """Whether the monitor counts the steps (and the frozen ones): with a state logger."""
+        return self._logger is not None
+
+    @property
     def last_velocities(self):
         """The last logged step's velocities (to resume a count in a branch)."""
         return None if self._last_v is None else self._last_v.copy()

@@ -1,19 +1,15 @@
-"""``simulate(scene) -> Run``: the one runner. It builds the scene's Diagram, sets the initial
-state the scene asks for, runs under the divergence monitor with an optional progress bar,
-and returns the logged history with the scene that ran, the Diagram's picture (Graphviz) and
-the replay page when the scene asks for one."""
+"""``simulate(scene) -> Run``: a scene's car on the one runner (``sim.simulation``). It
+builds the scene's Diagram, sets the initial state the scene asks for, runs under the
+divergence monitor with an optional progress bar, and returns the logged history with the
+scene that ran, the Diagram's picture (Graphviz) and the replay page when the scene asks for
+one."""
 
-import contextlib
 import dataclasses
 import functools
 import logging
 import math
-import signal
-import sys
-import time
 
 import numpy as np
-from pydrake.systems.analysis import Simulator
 
 from drake_car.model.car import loop_closure_error, strut_overlap
 from drake_car.model.geometry import SIDES, design_axle_loads_N
@@ -26,7 +22,7 @@ from drake_car.sim.build import build_diagram
 from drake_car.sim.driver_wiring import manoeuvre_outcome
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
-from drake_car.sim.monitor import Monitor, Road
+from drake_car.sim.simulation import Runner
 from drake_car.systems.tyre import WHEELS
 
 log = logging.getLogger(__name__)
@@ -97,16 +93,15 @@ def simulate(scene: Scene, *, progress=False, meshcat=None) -> Run:
     """Runs ``scene``; ``progress`` shows a bar of the simulated time on stderr. A scene with
     ``MeshcatLive`` or ``MeshcatReplay`` visualisation starts a Meshcat server on localhost
     unless ``meshcat`` is given."""
-    runner = Runner(scene, progress=progress, meshcat=meshcat)
-    runner.start()
-    runner.advance_to(scene.end_time_s)
-    return runner.finish()
+    return SceneRunner(scene, progress=progress, meshcat=meshcat).run().finish()
 
 
-class Runner:
-    """One simulation of a scene, advanced in the monitor's chunks: ``start()`` sets the
-    initial state and initializes, ``advance_to(t)`` runs (any number of times), ``finish()``
-    returns the Run. ``sim.branch`` starts a runner from another runner's saved context."""
+class SceneRunner(Runner):
+    """The one runner (``sim.simulation.Runner``) on a scene's car: builds the scene's
+    Diagram, selects its lane-change case, starts from the scene's initial state (the static
+    equilibrium by default), shows or records Meshcat when the scene asks, and ``finish()``
+    returns the Run.
+    ``sim.branch`` starts one from another runner's saved context."""
 
     def __init__(self, scene: Scene, *, progress=False, meshcat=None, branchable=False,
                  built=None, context=None):
@@ -121,106 +116,44 @@ class Runner:
             meshcat = start_meshcat()
             if isinstance(visual, MeshcatLive):
                 log.info("Meshcat: %s", meshcat.web_url())
-        self.built = built or build_diagram(scene, meshcat=meshcat if shows else None,
-                                            branchable=branchable)
-        if context is None:
-            self.simulator = Simulator(self.built.diagram)
-        else:
-            self.simulator = Simulator(self.built.diagram, context)
-        if self.built.case_port is not None:
-            self.built.select_case(self.simulator.get_mutable_context(), scene.manoeuvre.case)
-        self.simulator.set_target_realtime_rate(
-            visual.realtime_rate if isinstance(visual, MeshcatLive) else 0.0)
-        self.root = self.simulator.get_mutable_context()
-        self.recorder = None
+        if built is None:
+            built = build_diagram(scene, meshcat=meshcat if shows else None,
+                                  branchable=branchable)
+        elif built.scene is not scene:  # another case of a branchable Diagram: this scene's
+            built = dataclasses.replace(built, scene=scene)
+        recorder = None
         if isinstance(visual, MeshcatReplay):
             from drake_car.sim.replay import ReplayRecorder
-            self.recorder = ReplayRecorder(meshcat, self.built, visual)
-        self.monitor = Monitor(self.built.plant, self.built.diagram,
-                               state_logger=self.built.velocity_logger,
-                               instance=self.built.car.instance, road=Road(
-                                   self.built.tyre, scene.car.tyre.radial_stiffness_Npm,
-                                   scene.road.flat_up_to_m(), self.built.car.body("chassis"),
-                                   scene.simulator.airborne_limit_s,
-                                   tuple(self.built.car.wheel_bodies()[w] for w in WHEELS)))
-        self.progress = progress
-        self.wall_s = 0.0
-        self.cpu_s = 0.0
+            recorder = ReplayRecorder(meshcat, built, visual)
+        super().__init__(built, end_time_s=scene.end_time_s, progress=progress,
+                         context=context, recorder=recorder,
+                         realtime_rate=(visual.realtime_rate if isinstance(visual, MeshcatLive)
+                                        else 0.0))
+        if built.case_port is not None:
+            built.select_case(self.root, scene.manoeuvre.case)
 
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
-        _set_initial_state(self.built, self.root, self.scene)
+        if self.scene.simulator.start == "static_equilibrium":
+            self.built.initial_positions = static_equilibrium(self.scene).positions
         estimate = estimate_wall_s(self.scene)
         if self.progress and estimate > ANNOUNCE_WALL_S:
             log.info("%s: %g s at %g s steps, about %.0f min of wall time", self.scene.name,
                      self.scene.end_time_s, self.scene.time_step_s, estimate / 60)
-        self.simulator.Initialize()
-
-    def advance_to(self, end):
-        period = self.scene.simulator.monitor_period_s
-        now = self.root.get_time()
-        first = int(np.floor(now / period + 1e-9)) + 1
-        last = max(first, int(np.ceil(end / period - 1e-9)))
-        bar = _progress_bar(self.scene, self.scene.end_time_s, now) if self.progress else None
-        began, cpu_began = time.perf_counter(), time.process_time()
-        try:
-            with _deferred_signals() as caught:
-                for k in range(first, last + 1):
-                    target = min(k * period, end)
-                    self.simulator.AdvanceTo(target)
-                    if caught:
-                        break
-                    self.monitor.check(self.root)
-                    if self.recorder is not None:
-                        self.recorder.frame(self.root)
-                    if bar is not None:
-                        bar.update(target - bar.n)
-        finally:
-            self.wall_s += time.perf_counter() - began
-            self.cpu_s += time.process_time() - cpu_began
-            if bar is not None:
-                bar.close()
+        super().start()
 
     def finish(self) -> Run:
-        built, root, scene = self.built, self.root, self.scene
-        history = logged_history(built, root)
-        history["phase"] = [scene.manoeuvre.phase(t) for t in history["t"]]
+        result = self.result()
         html = self.recorder.finish() if self.recorder is not None else None
-        dot = built.diagram.GetGraphvizString(max_depth=1, options={"plant/split": "I/O"})
-        stats = self.monitor.stats
-        final = final_state(built, root)
-        outcome = manoeuvre_outcome(scene, history, log)  # a path manoeuvre's: done as asked?
+        final = final_state(self.built, self.root)
+        outcome = manoeuvre_outcome(self.scene, result.history, log)  # a path manoeuvre's
         if outcome is not None:
             final["manoeuvre_outcome"] = outcome
-        return Run(scene=scene, history=history, wall_s=self.wall_s,
-                   frozen_sap_steps=stats.frozen_steps,
-                   first_frozen_sap_step_s=stats.first_frozen_time_s, steps=stats.steps,
-                   final=final, diagram_dot=dot, replay_html=html, cpu_s=self.cpu_s)
-
-
-@contextlib.contextmanager
-def _deferred_signals():
-    """Ctrl-C and SIGTERM while the simulator steps are noted, not raised: raised inside one of
-    the Python systems Drake calls back from C++ (most land in the tyre system's update), a
-    KeyboardInterrupt crosses C++ as an exception where it can be lost (a run once finished
-    and exited 0 after SIGINT). The runner stops after the chunk it is in; the signal is then
-    raised again with the handlers that were there before (KeyboardInterrupt, or
-    ``results.folder.terminate_as_exit``'s SystemExit)."""
-    caught = []
-    signals = (signal.SIGINT, signal.SIGTERM)
-    try:
-        previous = {s: signal.signal(s, lambda signum, frame: caught.append(signum))
-                    for s in signals}
-    except ValueError:  # not the main thread: leave the signals alone
-        yield caught
-        return
-    try:
-        yield caught
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        if caught:
-            signal.raise_signal(caught[0])
+        return Run(scene=self.scene, history=result.history, wall_s=result.wall_s,
+                   frozen_sap_steps=result.frozen_sap_steps,
+                   first_frozen_sap_step_s=result.first_frozen_sap_step_s, steps=result.steps,
+                   final=final, diagram_dot=result.diagram_dot, replay_html=html,
+                   cpu_s=result.cpu_s)
 
 
 def static_equilibrium(scene: Scene) -> Equilibrium:
@@ -238,44 +171,6 @@ def _settled(settle_yaml) -> Equilibrium:
     equilibrium = equilibrium_from_run(simulate(yaml_load_typed(schema=Scene, data=settle_yaml)))
     equilibrium_cache.store(settle_yaml, equilibrium)
     return equilibrium
-
-
-def _set_initial_state(built, root, scene):
-    if scene.simulator.start != "static_equilibrium":
-        return
-    start = static_equilibrium(scene)
-    plant = built.plant
-    plant.SetPositions(plant.GetMyMutableContextFromRoot(root), built.car.instance,
-                       np.asarray(start.positions))
-
-
-def _progress_bar(scene, end, now=0.0):
-    from tqdm import tqdm
-    return tqdm(total=end, initial=now, desc=scene.name, unit="s sim", file=sys.stderr,
-                leave=False, disable=None, mininterval=0.5,
-                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} s "
-                           "[{elapsed}<{remaining}]")
-
-
-def logged_history(built, root_context):
-    """Columns of every logger of ``built``, with their sample times "t". A sample repeated at
-    the same time (a branched run's loggers sample again when its simulator starts at the
-    branch time, ``sim.branch``) is kept once."""
-    history = {}
-    for group, logger in built.loggers.items():
-        log = logger.FindLog(root_context)
-        times = np.array(log.sample_times())
-        keep = np.concatenate([[True], np.diff(times) > 0]) if times.size else times > 0
-        if "t" in history and not np.array_equal(history["t"], times[keep]):
-            raise RuntimeError(f"logger of {group} sampled at other times than the others")
-        history["t"] = times[keep]
-        data = log.data()
-        for row, name in enumerate(built.log_columns[group]):
-            history[name] = np.array(data[row])[keep]
-    if "t" not in history:
-        period = built.scene.logging.record_period_s
-        history["t"] = np.arange(int(round(built.scene.end_time_s / period)) + 1) * period
-    return history
 
 
 def final_state(built, root):

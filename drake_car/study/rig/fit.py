@@ -20,7 +20,7 @@ import numpy as np
 from scipy import stats
 
 from drake_car.law.friction.frd import StrutFrictionParameters
-from drake_car.sim.strut_rig import eq4_normal_force_N, simulate_strut_rig
+from drake_car.sim.rigs.strut import eq4_normal_force_N, simulate_strut_rig
 from drake_car.study.rig.analysis import LoopError, loop_statistics
 
 FIT_CYCLES = 5.0  # nine complete half-cycles after the first motion

@@ -15,8 +15,9 @@ Loads on the knuckle:
 
 - the side force ``side_force_N`` along +x, constant in the rig's frame, at the point of the
   strut axis ``side_force_point_below_top_m`` below the top mount (default: the strut's lower
-  mount, where a rig's lever clamps the knuckle). ``corner_side_force_N`` converts a corner's
-  wheel loads into the top-mount-equivalent side force (the car's b);
+  mount, where a rig's lever clamps the knuckle; ``at_rest.StrutAtRest.rig_options`` loads
+  it as the car's strut at rest: the car's transverse strut force at the top mount).
+  ``corner_side_force_N`` is the closed form of a corner's tyre share (the car's b);
 - the stroke actuator through the rig's compliance: a load cell and fixtures of stiffness
   ``rig_stiffness_Npm`` and damping ``rig_damping_Nspm`` between the knuckle and the actuator's
   position x_a(t) = A sin(2π f t); the load cell reads F = k (x_a - q) + c (ẋ_a - q̇), the
@@ -40,17 +41,21 @@ from pydrake.multibody.plant import (
     AddMultibodyPlant, ExternallyAppliedSpatialForce, MultibodyPlantConfig)
 from pydrake.multibody.tree import PrismaticJoint, RevoluteJoint, SpatialInertia, UnitInertia
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
+from pydrake.systems.primitives import LogVectorOutput
 
 from drake_car.law.checks import ParameterError, finite, nonnegative, positive
-from drake_car.law.friction.frd import StrutFrictionParameters
+from drake_car.law.friction.frd import StrutFrictionParameters, normal_force
 from drake_car.model.parameters import CarParameters
+from drake_car.model.struts import strut_geometry
 from drake_car.sim.monitor import Monitor
+from drake_car.sim.simulation import Runner, RunResult, state_columns
 from drake_car.systems.friction_pairs import Strut, declare_pairs
 from drake_car.systems.strut_friction import DIAGNOSTIC_FIELDS, StrutFriction
 
 MAX_SIDE_FORCE_N = 2e4  # ~5 g on a front corner's load: beyond any strut rig
 MAX_STROKE_AMPLITUDE_M = 0.05
 MAX_DURATION_S = 600.0
+MONITOR_PERIOD_S = 0.01  # the divergence monitor's check period on the rig (s)
 
 
 @dataclasses.dataclass
@@ -123,7 +128,10 @@ def corner_side_force_N(front, vertical_load_N, lateral_load_N=0.0):
     F = (Fz b + Fy h_bj) / (h_top - h_bj), Fz the vertical road reaction at the lateral offset b
     (the paper's Fig. 4), Fy the lateral tyre force at the ground (outward +), h_bj and h_top the
     ball joint's and the top mount's heights. The spring is taken on a line through the ball
-    joint (this car: spring on the strut axis), the lower arm as carrying no moment."""
+    joint, the lower arm as carrying no moment. It is the tyre's share alone: the car's own
+    strut load at rest (``at_rest.strut_at_rest``, measured in the settled car) adds the
+    spring's line (+155 N on the shipped car, whose spring runs along the strut axis, not
+    through the ball joint), the tie rod and the unsprung weights: 642.5 N against 520.7 N."""
     lever = front.top_mount_height_m - front.ball_joint_height_m
     return (vertical_load_N * front.ball_joint_offset_b_m
             + lateral_load_N * front.ball_joint_height_m) / lever
@@ -137,6 +145,20 @@ def eq4_normal_force_N(front, options: StrutRigOptions, stroke_m=0.0):
     middle = front.guide_below_top_mount_m + stroke_m + 0.5 * d  # below the top mount
     lever = options.side_force_point(front) + stroke_m - middle
     return abs(options.side_force_N) * math.sqrt(1.0 + (lever / d) ** 2)
+
+
+def rest_normal_force_N(front, options: StrutRigOptions, law: StrutFrictionParameters):
+    """The strut's normal force at rest at the design position, as the friction computes it
+    (eq. 4 in the law's form, its preload): the reaction on the knuckle is -F along x and the
+    moment F·a about the overlap's middle (``eq4_normal_force_N``), the joint's axis -z. The
+    friction starts with it: before the plant's first step there is no reaction to read, and
+    the side force acts from t = 0 (with N = 0 the first step slipped, friction-free)."""
+    d = front.guide_length_l_m
+    lever = options.side_force_point(front) - (front.guide_below_top_mount_m + 0.5 * d)
+    force = options.side_force_N
+    return normal_force((-force, 0.0, 0.0), (0.0, force * lever, 0.0), d,
+                        law.preload_force_N, law.mu_s, law.normal_force_form,
+                        axis=(0.0, 0.0, -1.0))
 
 
 class RigLoads(LeafSystem):
@@ -193,12 +215,64 @@ class RigLoads(LeafSystem):
 
 @dataclasses.dataclass
 class StrutRig:
+    """The rig's Diagram and what the runner needs of it (``sim.simulation.Simulation``): its
+    loggers (the plant's state every step; with dry friction the translation pair's
+    diagnostics and the pairs' net actuation), the monitor's checks a rig can have (a finite
+    state, speeds below the monitor's limit) and its history's columns ``RIG_COLUMNS``. It
+    starts at the design position, at rest."""
+
     diagram: object
     plant: object
     friction: object
     loads: RigLoads
     prismatic: object
     revolute: object
+    options: StrutRigOptions = None
+    loggers: dict = dataclasses.field(default_factory=dict)
+    log_columns: dict = dataclasses.field(default_factory=dict)
+    name = "strut rig"
+    monitor_period_s = MONITOR_PERIOD_S
+
+    @property
+    def time_step_s(self):
+        return self.options.time_step_s
+
+    def monitor(self):
+        return Monitor(self.plant, self.diagram)
+
+    def set_initial_state(self, root_context):
+        pass  # the design position, at rest: the plant's default
+
+    def history(self, logged):
+        """``RIG_COLUMNS`` (``simulate_strut_rig``) from the logged state, diagnostics and
+        actuation."""
+        t = logged["t"]
+        n = len(t)
+        names = self.log_columns["state"]
+        x = np.array([logged[name] for name in names])  # [q; v] per sample
+        nq = self.plant.num_positions()
+        qp, vp = self.prismatic.position_start(), self.prismatic.velocity_start()
+        out = {c: np.zeros(n) for c in RIG_COLUMNS}
+        out["t"] = t
+        for k in range(n):
+            # The force the actuators applied over the step that ended at t_k: from the
+            # state at its start, the sample before (the first sample: its own).
+            out["load_cell_N"][k], out["torsion_Nm"][k] = self.loads.load_cell(
+                t[max(k - 1, 0)], x[:, max(k - 1, 0)])
+            out["actuator_m"][k] = self.options.stroke(t[k])[0]
+        out["stroke_m"] = x[qp].copy()
+        out["velocity_mps"] = x[nq + vp].copy()
+        out["angle_rad"] = x[self.revolute.position_start()].copy()
+        if self.friction is None:
+            out["friction_N"] = -self.prismatic.default_damping() * x[nq + vp]
+            return out
+        # The actuators are in the friction pairs' order: translation, then rotation.
+        out["friction_N"] = logged["actuation_0"]
+        if "actuation_1" in logged:
+            out["friction_moment_Nm"] = logged["actuation_1"]
+        for column, field in (("normal_N", "N"), ("mu", "mu"), ("phase", "phase")):
+            out[column] = logged[field]  # the translation pair's (the first)
+        return out
 
 
 def build_strut_rig(car: CarParameters, options: StrutRigOptions,
@@ -237,9 +311,8 @@ def build_strut_rig(car: CarParameters, options: StrutRigOptions,
     plant.Finalize()
     friction = None
     if dry:
-        length = front.guide_length_l_m
-        strut = Strut(pairs, overlap_m=(length, -1.0), moment_arm_offset_m=(-0.5 * length, 0.5),
-                      rod_radius_m=front.rod_radius_r_m)
+        strut = Strut(pairs, **strut_geometry(front),
+                      initial_normal_force_N=rest_normal_force_N(front, options, law))
         friction = builder.AddSystem(StrutFriction(plant, [strut], law, scheme=options.scheme,
                                                    name="strut_friction"))
         friction.connect(builder, plant)
@@ -255,7 +328,29 @@ def build_strut_rig(car: CarParameters, options: StrutRigOptions,
                     plant.get_applied_generalized_force_input_port())
     builder.Connect(loads.GetOutputPort("side_force"),
                     plant.get_applied_spatial_force_input_port())
-    return StrutRig(builder.Build(), plant, friction, loads, prismatic, revolute)
+    loggers, columns = _add_loggers(builder, plant, friction, instance, options.time_step_s)
+    diagram = builder.Build()
+    diagram.set_name("strut_rig")
+    return StrutRig(diagram, plant, friction, loads, prismatic, revolute, options, loggers,
+                    columns)
+
+
+def _add_loggers(builder, plant, friction, instance, period):
+    """The plant's state; with dry friction the pairs' diagnostics (the translation pair's
+    fields first) and the strut's net actuation (the pairs' actuators)."""
+    loggers = {"state": LogVectorOutput(plant.get_state_output_port(), builder, period)}
+    columns = {"state": state_columns(plant)}
+    if friction is not None:
+        loggers["friction"] = LogVectorOutput(friction.GetOutputPort("diagnostics"), builder,
+                                              period)
+        columns["friction"] = [f"{name}_{k}" if k else name for k in range(friction.num_pairs())
+                               for name in DIAGNOSTIC_FIELDS]
+        loggers["actuation"] = LogVectorOutput(plant.get_net_actuation_output_port(instance),
+                                               builder, period)
+        columns["actuation"] = [f"actuation_{k}" for k in range(plant.num_actuators(instance))]
+    for group, logger in loggers.items():
+        logger.set_name(f"log_{group}")
+    return loggers, columns
 
 
 def _fixed(name, body, pose):
@@ -268,7 +363,7 @@ RIG_COLUMNS = ("t", "actuator_m", "stroke_m", "velocity_mps", "load_cell_N", "fr
 
 
 def simulate_strut_rig(car: CarParameters, options: StrutRigOptions,
-                       law: StrutFrictionParameters | None, *, cycles=2.0):
+                       law: StrutFrictionParameters | None, *, cycles=2.0, progress=False):
     """Runs ``cycles`` stroke periods; returns ``RIG_COLUMNS`` sampled every step.
     ``load_cell_N``: the axial force the actuator applied over the step that ended at t (from
     the state at its start: what the knuckle felt, as ``friction_N`` is; the peak at a
@@ -276,54 +371,20 @@ def simulate_strut_rig(car: CarParameters, options: StrutRigOptions,
     above μs·N); ``friction_N``: the friction force on the knuckle from the
     system (the actuators' net actuation; the lubricated strut's -c q̇); ``normal_N``, ``mu``,
     ``phase``: the translation pair's diagnostics; ``torsion_Nm`` and ``friction_moment_Nm``
-    the same about the axis."""
-    from pydrake.systems.analysis import Simulator
+    the same about the axis. ``run_strut_rig`` returns how the run went too."""
+    return run_strut_rig(car, options, law, cycles=cycles, progress=progress).history
 
+
+def run_strut_rig(car: CarParameters, options: StrutRigOptions,
+                  law: StrutFrictionParameters | None, *, cycles=2.0,
+                  progress=False) -> RunResult:
+    """The rig on the one runner (``sim.simulation.Runner``): its history
+    (``simulate_strut_rig``) and how the run went (wall and CPU time, steps)."""
     duration = cycles / options.stroke_frequency_hz
     if not (0 < duration <= MAX_DURATION_S):
         raise ParameterError("cycles", cycles,
                              f"make a run of {duration:g} s; it must lie in (0, "
                              f"{MAX_DURATION_S:g}] s")
     rig = build_strut_rig(car, options, law)
-    simulator = Simulator(rig.diagram)
-    root = simulator.get_mutable_context()
-    monitor = Monitor(rig.plant, rig.diagram)
-    simulator.Initialize()
-    plant = rig.plant
-    pc = plant.GetMyContextFromRoot(root)
-    instance = plant.GetModelInstanceByName("strut")
-    fc = None if rig.friction is None else rig.friction.GetMyContextFromRoot(root)
-    field = {name: i for i, name in enumerate(DIAGNOSTIC_FIELDS)}
-    period = options.time_step_s
-    steps = int(round(duration / period))
-    out = {c: np.zeros(steps + 1) for c in RIG_COLUMNS}
-    qp, vp = rig.prismatic.position_start(), rig.prismatic.velocity_start()
-    qr = rig.revolute.position_start()
-    nq = plant.num_positions()
-    damping = rig.prismatic.default_damping()
-    previous = (0.0, plant.GetPositionsAndVelocities(pc))
-    for k in range(steps + 1):
-        simulator.AdvanceTo(k * period)
-        monitor.check(root)
-        t = root.get_time()
-        x = plant.GetPositionsAndVelocities(pc)
-        out["load_cell_N"][k], out["torsion_Nm"][k] = rig.loads.load_cell(*previous)
-        previous = (t, x)
-        out["t"][k] = t
-        out["actuator_m"][k] = options.stroke(t)[0]
-        out["stroke_m"][k] = x[qp]
-        out["velocity_mps"][k] = x[nq + vp]
-        out["angle_rad"][k] = x[qr]
-        if fc is None:
-            out["friction_N"][k] = -damping * x[nq + vp]
-            continue
-        actuation = plant.get_net_actuation_output_port(instance).Eval(pc)
-        diag = rig.friction.GetOutputPort("diagnostics").Eval(fc)  # translation pair first
-        # The actuators are in the friction pairs' order: translation, then rotation.
-        out["friction_N"][k] = actuation[0]
-        if len(actuation) > 1:
-            out["friction_moment_Nm"][k] = actuation[1]
-        out["normal_N"][k] = diag[field["N"]]
-        out["mu"][k] = diag[field["mu"]]
-        out["phase"][k] = diag[field["phase"]]
-    return out
+    end = int(round(duration / options.time_step_s)) * options.time_step_s
+    return Runner(rig, end_time_s=end, progress=progress).run().result()

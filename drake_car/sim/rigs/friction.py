@@ -15,12 +15,14 @@ from pydrake.multibody.tree import (
     PdControllerGains, PrismaticJoint, RevoluteJoint, SpatialInertia, UnitInertia)
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import DiagramBuilder, LeafSystem
+from pydrake.systems.primitives import LogVectorOutput
 
 from drake_car.law.checks import ParameterError, finite, nonnegative, positive
 from drake_car.law.friction.frd import StrutFrictionParameters, explicit_time_step_limit_s
 from drake_car.sim.monitor import Monitor
+from drake_car.sim.simulation import Runner, RunResult, state_columns
 from drake_car.systems.friction_pairs import Strut, declare_pairs
-from drake_car.systems.strut_friction import StrutFriction
+from drake_car.systems.strut_friction import DIAGNOSTIC_FIELDS, StrutFriction
 
 GRAVITY_MPS2 = 9.81
 MAX_NORMAL_FORCE_N = 1e6
@@ -29,6 +31,8 @@ MAX_NORMAL_FORCE_N = 1e6
 # far below the friction's own scales (Δmax, Δv): 120 N gives 0.12 µm and 1e-6 m/s.
 BELT_SERVO_P = 1e9
 BELT_SERVO_D = 1e8
+# The divergence monitor's check period on the rig (s).
+MONITOR_PERIOD_S = 0.01
 
 
 @dataclasses.dataclass
@@ -131,12 +135,41 @@ class RigLoad(LeafSystem):
 
 @dataclasses.dataclass
 class Rig:
+    """The rig's Diagram and what the runner needs of it (``sim.simulation.Simulation``): its
+    loggers (the plant's state, the friction's diagnostics, the block's net actuation), the
+    monitor's checks a rig can have (a finite state, speeds below the monitor's limit), its
+    initial state and its history's columns ``RIG_COLUMNS``."""
+
     diagram: object
     plant: object
     friction: object  # StrutFriction or None
     block_joint: object
     belt_joint: object
     options: RigOptions
+    loggers: dict = dataclasses.field(default_factory=dict)
+    log_columns: dict = dataclasses.field(default_factory=dict)
+    name = "friction rig"
+    monitor_period_s = MONITOR_PERIOD_S
+
+    @property
+    def time_step_s(self):
+        return self.options.time_step_s
+
+    def monitor(self):
+        return Monitor(self.plant, self.diagram)
+
+    def history(self, logged):
+        """``RIG_COLUMNS``: x_m the block's position from the spring's anchor, v_mps its
+        velocity relative to the belt, the friction pair's creep, μ and phase, friction_N
+        the force the plant applied (the net actuation, PD included)."""
+        n = len(logged["t"])
+        x = logged[f"q_{self.block_joint.name()}"] + (
+            0.0 if self.belt_joint is None else logged[f"q_{self.belt_joint.name()}"])
+        out = {"t": logged["t"], "x_m": x, "v_mps": logged[f"v_{self.block_joint.name()}"]}
+        for column, field in (("creep_m", "creep"), ("mu", "mu"), ("phase", "phase"),
+                              ("friction_N", "actuation")):
+            out[column] = logged[field] if self.friction is not None else np.zeros(n)
+        return {c: out[c] for c in RIG_COLUMNS}
 
     def set_initial_state(self, root_context):
         pc = self.plant.GetMyMutableContextFromRoot(root_context)
@@ -150,7 +183,10 @@ class Rig:
         self.plant.SetVelocities(pc, v)
 
 
-def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None) -> Rig:
+def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None, *,
+              record_period_s=None) -> Rig:
+    """The rig's Diagram; its loggers record every ``record_period_s`` (default: every
+    step)."""
     params = params or StrutFrictionParameters()
     options.check(params)
     builder = DiagramBuilder()
@@ -212,8 +248,28 @@ def build_rig(options: RigOptions, params: StrutFrictionParameters | None = None
         belt_command = builder.AddSystem(_BeltCommand(options.belt_speed_mps))
         builder.Connect(belt_command.get_output_port(0),
                         plant.get_desired_state_input_port(belt_instance))
+    loggers, columns = _add_loggers(builder, plant, friction, block_instance,
+                                    record_period_s or options.time_step_s)
     diagram = builder.Build()
-    return Rig(diagram, plant, friction, block_joint, belt_joint, options)
+    diagram.set_name("friction_rig")
+    return Rig(diagram, plant, friction, block_joint, belt_joint, options, loggers, columns)
+
+
+def _add_loggers(builder, plant, friction, block_instance, period):
+    """The plant's state; with friction, the pair's diagnostics (``DIAGNOSTIC_FIELDS``) and the
+    block's net actuation (one actuator: the pair's)."""
+    loggers = {"state": LogVectorOutput(plant.get_state_output_port(), builder, period)}
+    columns = {"state": state_columns(plant)}
+    if friction is not None:
+        loggers["friction"] = LogVectorOutput(friction.GetOutputPort("diagnostics"), builder,
+                                              period)
+        columns["friction"] = list(DIAGNOSTIC_FIELDS)
+        loggers["actuation"] = LogVectorOutput(
+            plant.get_net_actuation_output_port(block_instance), builder, period)
+        columns["actuation"] = ["actuation"]
+    for group, logger in loggers.items():
+        logger.set_name(f"log_{group}")
+    return loggers, columns
 
 
 class _BeltCommand(LeafSystem):
@@ -233,44 +289,22 @@ RIG_COLUMNS = ("t", "x_m", "v_mps", "creep_m", "mu", "phase", "friction_N")
 
 
 def simulate_rig(options: RigOptions, params: StrutFrictionParameters | None = None, *,
-                 duration_s=1.0, record_period_s=None):
+                 duration_s=1.0, record_period_s=None, progress=False):
     """Runs the rig; returns columns ``RIG_COLUMNS`` sampled every ``record_period_s``
     (default: every step). ``friction_N`` is the force the plant applied (the net actuation,
-    PD included); x_m the block's position from the spring anchor; v_mps relative to the belt."""
-    from pydrake.systems.analysis import Simulator
+    PD included); x_m the block's position from the spring anchor; v_mps relative to the belt.
+    ``run_rig`` returns how the run went too."""
+    return run_rig(options, params, duration_s=duration_s, record_period_s=record_period_s,
+                   progress=progress).history
 
+
+def run_rig(options: RigOptions, params: StrutFrictionParameters | None = None, *,
+            duration_s=1.0, record_period_s=None, progress=False) -> RunResult:
+    """The rig on the one runner (``sim.simulation.Runner``): its history (``simulate_rig``)
+    and how the run went (wall and CPU time, steps)."""
     if not (0 < duration_s <= 600):
         raise ParameterError("duration_s", duration_s, "must lie in (0, 600] s")
-    rig = build_rig(options, params)
-    simulator = Simulator(rig.diagram)
-    root = simulator.get_mutable_context()
-    rig.set_initial_state(root)
-    monitor = Monitor(rig.plant, rig.diagram)
-    simulator.Initialize()
-    plant = rig.plant
-    pc = plant.GetMyContextFromRoot(root)
-    block_instance = plant.GetModelInstanceByName("block")
-    friction_context = None if rig.friction is None else rig.friction.GetMyContextFromRoot(root)
+    rig = build_rig(options, params, record_period_s=record_period_s)
     period = record_period_s or options.time_step_s
-    steps = int(round(duration_s / period))
-    out = {c: np.empty(steps + 1) for c in RIG_COLUMNS}
-    qb = rig.block_joint.position_start()
-    vb = rig.block_joint.velocity_start()
-    qbelt = None if rig.belt_joint is None else rig.belt_joint.position_start()
-    for k in range(steps + 1):
-        simulator.AdvanceTo(k * period)
-        monitor.check(root)
-        q = plant.GetPositions(pc)
-        v = plant.GetVelocities(pc)
-        out["t"][k] = root.get_time()
-        out["x_m"][k] = q[qb] + (0.0 if qbelt is None else q[qbelt])
-        out["v_mps"][k] = v[vb]
-        if friction_context is None:
-            out["creep_m"][k] = out["mu"][k] = out["phase"][k] = out["friction_N"][k] = 0.0
-            continue
-        diag = rig.friction.GetOutputPort("diagnostics").Eval(friction_context)
-        out["creep_m"][k] = diag[1]
-        out["mu"][k] = diag[4]
-        out["phase"][k] = diag[5]
-        out["friction_N"][k] = plant.get_net_actuation_output_port(block_instance).Eval(pc)[0]
-    return out
+    end = int(round(duration_s / period)) * period
+    return Runner(rig, end_time_s=end, progress=progress).run().result()
