@@ -106,8 +106,10 @@ def main(argv=None):
                           client=client, rerun_failed=args.rerun_failed)
         refined = None
         if jam:
-            print(f"accuracy on demand: {len(jam)} runs at μs >= {study.accuracy.jam_mu_s:g} "
-                  f"({', '.join(study.accuracy.parts)}) at 1/2 and 1/4 of their step, then "
+            print(f"accuracy on demand: {len(jam)} runs, at μs >= {study.accuracy.jam_mu_s:g} "
+                  f"({', '.join(study.accuracy.parts)})"
+                  + (" and --compare's at any μs" if design_compare.PART in parts else "")
+                  + " at 1/2 and 1/4 of their step, then "
                   f"halved where not converged, down to {1e3 * study.accuracy.finest_step_s:g} "
                   "ms", flush=True)
             refined = jam_cases.refine_jam_cases(

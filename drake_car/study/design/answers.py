@@ -212,20 +212,20 @@ def _rack_words(study):
                 f"second lobe {m.second_lobe:.3f})")
     return ("the rack profile calibrated for it (3.7 m sideways at 60 km/h)" if shipped else
             f"the rack profile calibrated for the shipped car ({1e3 * amplitude:.2f} mm), not "
-            "for this one: its lane change is not the paper's 3.7 m")
+            "for this one: its lane change need not be the paper's 3.7 m")
 
 
 def method(study):
     t = study.base.manoeuvre.timeline
     shipped = is_paper_car(study)
-    where = "" if shipped else " (on the shipped car; not measured on this car)"
+    where = "" if shipped else " with the shipped car (not measured on this car)"
     return [
         f"Every run: the lane change of the base scene ({t.steer_s:g} s at {t.speed_kph:g} "
         f"km/h, {_rack_words(study)}, scaled by the severity factor) from static equilibrium, "
         f"with rest {t.settle_s:g} s, speed-up {t.speed_up_s:g} s, straight {t.straight_s:g} s "
         f"and {t.calm_s:g} s after the manoeuvre (the paper's: 0.8, 3.0, 1.2 and 2.6 s; the car "
         "starts at rest in static equilibrium, so the rest needs no length of its own). "
-        f"Measured 2026-11-23 on the default study{where} (8 Sobol points, 3 jam states): a "
+        f"Measured 2026-11-23 on the default study{where}, 8 Sobol points and 3 jam states: a "
         "calm phase of 1.5 s instead of 2.6 s moves the lasting split by at most 0.03 % and "
         "the rack force by 2.1 N; 1.0 s would move the split by up to 3.5 % (the car is still "
         "settling).",
