@@ -98,7 +98,8 @@ def car_lines(facts, *, damping=True):
              "number with its source there), on its shipped tyre" if facts["shipped"] else
              "not the shipped car" + (f": the car file `{facts['car_file']}` under the scene's "
                                       "car values" if facts["car_file"] else
-                                      ": the scene's car values (its `scene.yaml`)"))
+                                      ": the scene's car values (each run's saved "
+                                      "`scene.yaml`)"))
     corner, rate = facts["corner_load_N"], facts["wheel_rate_Npm"]
     bar = facts["anti_roll_bar_Nm_per_rad"]
     mount = facts["top_mount_stiffness_Npm"]

@@ -80,12 +80,12 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
     base = jam_states
     if base["runs"]:
         newtons = base.get("split_N", {})
-        in_N = (f" ({newtons['median']:.0f} N; {newtons['p90']:.0f} N)" if newtons.get("n")
-                else "")
+        median_N, p90_N = ((f" = {newtons['median']:.0f} N", f" = {newtons['p90']:.0f} N")
+                           if newtons.get("n") else ("", ""))
         lines.append(
             f"The study's car ({car_words(study)}, μs = {study.base.friction.law.mu_s:g}) over "
             f"{base['runs']} jam states: the lasting split change is {base['split']['median']:.2f} "
-            f"% (median; 90 % of states below {base['split']['p90']:.2f} %){in_N}, above "
+            f"%{median_N} (median; 90 % of states below {base['split']['p90']:.2f} %{p90_N}), above "
             f"{threshold:g} % in {100 * base['split']['share_above']:.0f} % of them; "
             + (f"the pull is {base['pull']['median']:.2f} deg (median), above "
                f"{study.pull_threshold_deg:g} deg in {100 * base['pull']['share_above']:.0f} %."

@@ -120,8 +120,8 @@ def compare_lines(c, smoke=False):
             f"| {r['mu_s']:g} | {_pm(b['split_N'], 0)} / {_pm(b['split_rel'], 2)} | "
             f"{_pm(ch['split_N'], 0)} / {_pm(ch['split_rel'], 2)} | "
             f"{_pm(d['split_rel'], 2)}: {d['split_rel']['verdict']} | "
-            f"{_pm(b['pull_deg'], 2)} / {_pm(ch['pull_deg'], 2)} | "
-            f"{_pm(d['pull_deg'], 2)}: {d['pull_deg']['verdict']} | "
+            f"{_pm(b['pull_deg'], 3)} / {_pm(ch['pull_deg'], 3)} | "
+            f"{_pm(d['pull_deg'], 3)}: {d['pull_deg']['verdict']} | "
             f"{_pm(b['torque_Nm'], 3)} / {_pm(ch['torque_Nm'], 3)} |")
     return lines + ["", f"Over the jam states (Monte Carlo, state by state): the row "
                     f"\"{NAME}\" of the mitigations' table below.", ""]
