@@ -315,11 +315,17 @@ def test_design_study_quick_end_to_end(tmp_path):
     study = out / "study"
     text = (out / "report.md").read_text()
     assert "## One factor at a time" in text and "## Accuracy where the struts jam" in text
+    # A smoke test says so on every page: the report's title, the answers, summary.json and
+    # stderr (the figures' titles: tests/test_your_car.py).
+    assert "(SMOKE TEST: not findings)" in text.splitlines()[0]
+    assert "Smoke test (--quick)" in result.stderr
+    assert "the paper's geometry" not in text
     for name in ("table.csv", "summary.json", "sobol.png", "monte_carlo.png", "lines.png",
                  "map0_split_change_rel.png", "map0_pull_deg.png"):
         assert (study / name).stat().st_size > 0, name
     summary = json.loads((study / "summary.json").read_text())
     assert summary["runs"]["failed"] == 0 and summary["answers"]
+    assert summary["smoke_test"]["changes"] and "not findings" in summary["smoke_test"]["note"]
     table = (study / "table.csv").read_text().splitlines()
     assert len(table) - 1 == summary["runs"]["total"]
     with open(study / "table.csv", newline="") as f:

@@ -178,3 +178,52 @@ def test_a_tyre_file_without_a_combined_slip_fit_is_said_at_scene_load(caplog):
         load_scene(scene_text=f"tyres: !MagicFormula {{tir_file: {SEDAN}, "
                               "combined_slip: false}")
     assert not any("combined_slip" in r.getMessage() for r in caplog.records)
+
+
+# A user's two sets, the car's damper in both, on a lane change shortened 20 times.
+SHORT = ("timeline: {settle_s: 0.04, speed_up_s: 0.15, straight_s: 0.06, steer_s: 0.12, "
+         "calm_s: 0.13}")
+TWO_SETS = f"""
+_base: &base
+  tyres: !MagicFormula {{combined_slip: true}}
+  plant: {{time_step: 0.001}}
+  logging: {{record_period_s: 0.01}}
+_dry: &dry
+  friction: {{scheme: fast, law: {{mu_s: 0.3, mu_d: 0.22}}}}
+  car: {{front: {{strut_damping_Nspm: 1657.0}}}}
+_wet: &wet
+  friction: null
+  car: {{front: {{strut_damping_Nspm: 1657.0}}}}
+a_wet: {{<<: [*base, *wet], name: a_wet, manoeuvre: !LaneChange {{case: a, {SHORT}}}}}
+b_wet: {{<<: [*base, *wet], name: b_wet, manoeuvre: !LaneChange {{case: b, {SHORT}}}}}
+a_dry: {{<<: [*base, *dry], name: a_dry, manoeuvre: !LaneChange {{case: a, {SHORT}}}}}
+b_dry: {{<<: [*base, *dry], name: b_dry, manoeuvre: !LaneChange {{case: b, {SHORT}}}}}
+"""
+
+
+@pytest.mark.slow
+def test_the_paper_command_runs_two_friction_sets(tmp_path):
+    """A user's two sets (``TWO_SETS``) through drake-car-paper: every claim judged, the dry set
+    said with its damper, no comparison with the previous version's car."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    scenes = tmp_path / "two.yaml"
+    scenes.write_text(TWO_SETS)
+    out = tmp_path / "paper"
+    root = Path(__file__).resolve().parents[1]
+    result = subprocess.run([sys.executable, "-m", "drake_car.commands.paper", "--scene",
+                             str(scenes), "--out", str(out), "--no_verify", "--no_html",
+                             "--workers", "1"], cwd=root, capture_output=True, text=True,
+                            timeout=1800)
+    assert result.returncode == 0, result.stderr[-3000:]
+    s = json.loads((out / "summary.json").read_text())
+    assert sorted(s["friction_sets"]) == ["1", "2"] and s["set_roles"]["high"] == 2
+    assert len(s["claims"]) == 6 and all(c["reproduced"] in (True, False) for c in s["claims"])
+    text = (out / "report.md").read_text()
+    assert "4 runs: two cases (a, b) × 2 friction sets (1, 2)" in text
+    assert "dry strut: static μs = 0.3, kinetic μd = 0.22, 1657 N s/m of viscous damping" in text
+    assert "## Against the previous version's car" not in text
+    assert (out / "fig16.png").exists() and (out / "a_dry.csv").exists()
+    assert "claims reproduced" in result.stdout
+
