@@ -15,7 +15,7 @@ from drake_car.model import anti_roll_bar, struts
 from drake_car.model.parameters import CarParameters
 from drake_car.results.files import run_texts
 from drake_car.results.record import run_from_texts
-from drake_car.scene import limits
+from drake_car.scene import car_limits, limits
 from drake_car.scene import load as scene_load
 from drake_car.sim.simulate import simulate
 from drake_car.sweep import runner as sweep_runner
@@ -28,6 +28,8 @@ CHECKS = {
     "car (CarParameters.check)": [(CarParameters, "check")],
     "limits (scene.limits.check_limits)": [(limits, "check_limits"),
                                            (scene_load, "check_limits")],
+    "road car (scene.car_limits.check_car)": [(car_limits, "check_car"),
+                                              (scene_load, "check_car")],
     "anti-roll bars' step limit": [(anti_roll_bar, "time_step_limit_s"),
                                    (limits, "bar_time_step_limit_s")],
     "reference friction's step limit": [(struts, "reference_time_step_limit_s"),

@@ -134,3 +134,27 @@ def test_hands_off_a_symmetric_car_keeps_its_heading():
     after = h["t"] >= 6.0
     assert abs(np.degrees(h["yaw_rad"][after][-1] - h["yaw_rad"][after][0])) < 0.05
     assert np.max(np.abs(h["rack_m"][after])) < 1e-3
+
+
+def test_a_rear_drive_car_drives_its_rear_wheels():
+    """car.driven_axle: rear puts the open differential on the rear wheels (the speed measured
+    at the free-rolling front wheels, the torque reacted by the body through the driveshafts):
+    in a 5 s launch the rear tyres pull (2.2 kN each, κ ≈ 0.05) and the fronts roll (Fx ≈ -57 N,
+    the tyre file's rolling resistance, as the undriven rears of the front-drive car; |κ| ≈
+    0.0015); the body pitches nose up; the car reaches its speed."""
+    scene = car_scene("straight", "car: {driven_axle: rear}\n"
+                                  "manoeuvre: !Straight {timeline: {speed_up_s: 5.0, "
+                                  "straight_s: 1.0}}\nlogging: {record_period_s: 0.02}")
+    run = simulate(scene)
+    h = run.history
+    timeline = scene.manoeuvre.timeline
+    launch = (h["t"] > timeline.settle_s + 1.0) & (h["t"] < timeline.boundaries()[0] - 1.0)
+    for wheel in ("rl", "rr"):
+        assert np.min(h[f"Fx_{wheel}_N"][launch]) > 1500.0, wheel
+        assert np.min(h[f"kappa_{wheel}"][launch]) > 0.02, wheel
+    for wheel in ("fl", "fr"):
+        assert np.max(np.abs(h[f"Fx_{wheel}_N"][launch])) < 100.0, wheel
+        assert np.max(np.abs(h[f"kappa_{wheel}"][launch])) < 3e-3, wheel
+    rest = h["t"] < timeline.settle_s
+    assert np.mean(h["pitch_rad"][launch]) < np.mean(h["pitch_rad"][rest]), "nose up"
+    assert_allclose(h["speed_mps"][-1], TARGET_MPS, rtol=0.005)

@@ -95,6 +95,10 @@ OVERRIDES = {
     "equilibrium settle time": "simulator: {equilibrium_settle_s: 3.0}",
     "equilibrium step": "simulator: {equilibrium_time_step_s: 0.0005}",
     "hands off": "steering: !HandsOff {release_s: 1.0}",
+    "strut lean back": "car: {front: {strut_caster_deg: 5.0}}",
+    "spring seats fore-aft": "car: {front: {spring_offset_fore_aft_m: 0.03}}",
+    "rear drive": "car: {driven_axle: rear}",
+    "car file": "car_file: cars/engineers_car.yaml",
 }
 
 

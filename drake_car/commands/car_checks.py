@@ -3,6 +3,9 @@ loads against the real car's axle loads, ride heights, strut overlaps), the susp
 kinematics (chassis fixed), the Diagram of the car with strut friction, and a Meshcat replay of
 the car settling with jammed struts. Writes into DIR:
 
+  hard_points.csv  the car's hard-point table: its inputs (a car file's points, or today's
+               parameters) beside what the model derives (b, kingpin, caster, scrub radius,
+               the strut's and spring's inclinations, the sprung mass's CoG, ride frequencies)
   settle/      the lubricated car settling (drake-car-run's files, settle.json)
   kinematics/  kinematics.csv, steering.csv and their plots
   jammed/      the car settling with μs = 0.4 (scene car.yaml:settle_jammed), its replay.html
@@ -27,7 +30,8 @@ from drake_car.results.files import write_csv, write_json, write_run
 from drake_car.results.folder import output_folder
 from drake_car.sim.simulate import simulate
 from drake_car.study.car.figures import plot_kinematics, plot_steering
-from drake_car.study.car.report import write_report
+from drake_car.model.hard_point_table import table_columns
+from drake_car.study.car.report import hard_point_rows, write_report
 
 CAR_SCENES = resource("scenes/car.yaml")
 
@@ -57,7 +61,10 @@ def main(argv=None):
         stuck = simulate(jammed, progress=True)
         (out / "jammed").mkdir()
         write_run(stuck, out / "jammed")
-        write_report(out / "report.md", settled, sweep, stuck, time.perf_counter() - began)
+        rows = hard_point_rows(lubricated)
+        write_csv(out / "hard_points.csv", table_columns(rows))
+        write_report(out / "report.md", settled, sweep, stuck, time.perf_counter() - began,
+                     rows)
     print(f"wrote {args.out} (report: {args.out / 'report.md'})")
 
 

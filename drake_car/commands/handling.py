@@ -9,7 +9,8 @@ continuous ramp steer at 60 km/h; step_steer: ISO 7401 step steer at 60 km/h). W
                   step_steer.png
   budget.csv, budget.json, budget_series.csv, budget.png
                   the understeer gradient split into named terms (drake_car/study/handling/understeer.py)
-  crosscheck/     CommonRoad's multi-body model (parameter set 1, Ford Escort) on our runs'
+  crosscheck/     CommonRoad's multi-body model of the car (its parameter set 1, Ford Escort;
+                  2, BMW 320i; none for another car) on our runs'
                   road-wheel steer at our speed: ramp.csv, step.csv, crosscheck.json,
                   crosscheck_ramp.png, crosscheck_step.png
   steering.csv    the rack-to-road-wheel relation (chassis fixed) the understeer gradient uses

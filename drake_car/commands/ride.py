@@ -57,8 +57,8 @@ def main(argv=None):
         "reused by the same command again (never replaced)"), scene=True, scene_help=(
         "your car: a scene FILE[:ENTRY] whose stated values (car, tyres, ...) are laid over "
         "the ride's base scene (scenes/ride.yaml: ride)"), scene_text=(
-        "YAML laid over the ride's base scene, so over every run (e.g. another tyre: "
-        "\"{tyres: !MagicFormula {tir_file: FILE}}\")"))
+        "YAML laid over the ride's base scene, so over every run (e.g. another car: "
+        "\"car_file: cars/bmw_320i.yaml\")"))
     p.add_argument("--classes", default="A,B,C", help="ISO 8608 road classes (default: A,B,C)")
     p.add_argument("--speeds", default="60,100", help="speeds in km/h (default: 60,100)")
     p.add_argument("--strut", default="damper",

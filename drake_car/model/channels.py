@@ -12,7 +12,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialAcceleration, SpatialVelocity
 from pydrake.systems.framework import LeafSystem
 
-from drake_car.model.geometry import SIDES
+from drake_car.model.geometry import SIDES, steering_sign
 
 # Channel groups computed here, with their columns (SI units in the names).
 CAR_CHANNELS = {
@@ -65,8 +65,9 @@ class CarChannels(LeafSystem):
     the rack (N, the steering system's load), steer angles of the front wheels relative to the
     body (rad, left +), and the torque the driver holds at the steering wheel, the rack force
     times the car's rack gain c (``front.rack_gain_m_per_rad``: T ω = F v with v = c ω; N m,
-    unassisted steering: no power assistance, the column's friction and the wheel's inertia
-    not included). ``struts``: overlap d = l - s of the left and right strut (m) and the
+    towards a left turn +: the rack's sign flipped for a rack behind the axle; unassisted
+    steering: no power assistance, the column's friction and the wheel's inertia not
+    included). ``struts``: overlap d = l - s of the left and right strut (m) and the
     rod's rotation in its cylinder (rad). ``energy``: the plant's kinetic energy and the
     potential energy of gravity and the coil springs (J), the SAP pacer's body left out.
     ``top_mounts``: the compliant mounts' deflections (m). ``ride``: the world-vertical
@@ -91,7 +92,10 @@ class CarChannels(LeafSystem):
         self._prismatic = [car.joint(f"strut_prismatic_{s}").position_start() for s in SIDES]
         self._revolute = [car.joint(f"strut_revolute_{s}").position_start() for s in SIDES]
         self._guide = float(car.params.front.guide_length_l_m)
-        self._rack_gain = float(car.params.front.rack_gain_m_per_rad)
+        # The steering wheel turns left (+) as the road wheels do: the rack the same way for a
+        # rack ahead of the axle, the other way behind it (geometry.steering_sign).
+        self._rack_gain = (float(car.params.front.rack_gain_m_per_rad)
+                           * steering_sign(car.params))
         self._mounts = []
         if "top_mounts" in groups:
             self._mounts = [car.joint(f"top_mount_{a}_{s}").position_start()

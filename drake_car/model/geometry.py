@@ -45,6 +45,15 @@ class RearCornerPoints:
     spring_upper_seat: np.ndarray
 
 
+def strut_cross_axes(up, side):
+    """Two unit vectors perpendicular to the strut axis ``up`` and to each other: ``outward``
+    (in the plane of the axis and the car's y axis, pointing away from the car's centre plane)
+    and ``ahead`` (pointing forward). The spring's offsets and inclinations are measured along
+    them (``FrontSuspensionParameters.spring_*``)."""
+    outward = _unit(np.array([0.0, side, 0.0]) - side * up[1] * up)
+    return outward, side * _unit(np.cross(outward, up))
+
+
 def front_corner_points(params: CarParameters, side: float) -> FrontCornerPoints:
     f = params.front
     s = side
@@ -58,16 +67,20 @@ def front_corner_points(params: CarParameters, side: float) -> FrontCornerPoints
         ball_joint[0] - height * math.tan(math.radians(f.caster_deg)),
         ball_joint[1] - s * height * math.tan(math.radians(f.kingpin_inclination_deg)),
         f.top_mount_height_m])
-    down = _unit([math.tan(math.radians(f.caster_deg)),
+    down = _unit([math.tan(math.radians(f.strut_lean_back_deg())),
                   s * math.tan(math.radians(f.strut_inclination_deg)), -1.0])
     up = -down
-    outward = _unit(np.array([0.0, s, 0.0]) - s * up[1] * up)
+    outward, ahead = strut_cross_axes(up, s)
     lower = f.spring_lower_seat_below_top_m
     upper = f.spring_upper_seat_below_top_m
-    spring_lower_seat = top_mount + lower * down + f.spring_offset_m * outward
+    spring_lower_seat = (top_mount + lower * down + f.spring_offset_m * outward
+                         + f.spring_offset_fore_aft_m * ahead)
     spring_upper_seat = (top_mount + upper * down
                          + (f.spring_offset_m - (lower - upper)
-                            * math.tan(math.radians(f.spring_inclination_deg))) * outward)
+                            * math.tan(math.radians(f.spring_inclination_deg))) * outward
+                         + (f.spring_offset_fore_aft_m - (lower - upper)
+                            * math.tan(math.radians(f.spring_inclination_fore_aft_deg)))
+                         * ahead)
     forward = _unit(np.array([1.0, 0.0, 0.0]) - up[0] * up)
 
     def mirror(p):
@@ -103,6 +116,79 @@ def rear_corner_points(params: CarParameters, side: float) -> RearCornerPoints:
         spring_upper_seat=np.array(
             [x_axle + r.spring_ahead_of_axle_m, s * r.spring_y_m, r.spring_upper_height_m]),
     )
+
+
+# Moments of inertia of the parts about their centres of mass (kg m², about axes parallel to
+# V's x, y, z) where the model file gives constants: [EST] of the order of the parts' sizes.
+PART_INERTIA_KGM2 = {
+    "steering_rack": (0.03, 0.001, 0.03),
+    "lower_arm": (0.02, 0.02, 0.04),
+    "knuckle": (0.15, 0.15, 0.08),
+    "strut_slider": (1e-5, 1e-5, 1e-5),
+    "top_mount": (1e-4, 1e-4, 1e-4),  # each of the compliant mount's three bodies
+    "trailing_arm": (0.1, 0.3, 0.3),
+}
+
+
+def wheel_inertia_kgm2(params: CarParameters):
+    """A wheel's moments about its centre (x, y = spin axis, z)."""
+    spin = params.mass.wheel_spin_inertia_kgm2
+    return (0.5 * spin + 0.02, spin, 0.5 * spin + 0.02)
+
+
+def rod_inertia_kgm2(params: CarParameters):
+    """The piston rod's moments about its centre, about its own axes (transverse, transverse,
+    along the strut): a slender rod from the top mount to the piston."""
+    m, f = params.mass, params.front
+    length = f.guide_below_top_mount_m + f.guide_length_l_m
+    transverse = m.piston_rod_kg * length ** 2 / 12
+    return (transverse, transverse, 0.5 * m.piston_rod_kg * f.rod_radius_r_m ** 2)
+
+
+def tie_rod_inertia_kgm2(params: CarParameters, points: "FrontCornerPoints"):
+    """A tie rod's moments about its centre (as the model file gives them: about V's axes)."""
+    length = float(np.linalg.norm(points.tie_rod_outer - points.tie_rod_inner))
+    bending = params.mass.tie_rod_kg * length ** 2 / 12
+    return (bending, 1e-4, bending)
+
+
+def part_inertias(params: CarParameters):
+    """(mass, centre of mass, 3x3 inertia about it in V) of every body but the chassis, in the
+    order of ``part_centres_of_mass``, with the moments the model file gives each body."""
+    def diagonal(moments, rotation=None):
+        inertia = np.diag(np.asarray(moments, dtype=float))
+        return inertia if rotation is None else rotation @ inertia @ rotation.T
+
+    m, f = params.mass, params.front
+    inertias = [np.diag(PART_INERTIA_KGM2["steering_rack"])]
+    for side in SIDES.values():
+        p = front_corner_points(params, side)
+        inertias += [diagonal(PART_INERTIA_KGM2["lower_arm"]),
+                     diagonal(PART_INERTIA_KGM2["knuckle"]),
+                     diagonal(PART_INERTIA_KGM2["strut_slider"]),
+                     diagonal(rod_inertia_kgm2(params), _rotation_z_to(p.strut_axis_up)),
+                     diagonal(wheel_inertia_kgm2(params)),
+                     diagonal(tie_rod_inertia_kgm2(params, p))]
+        if f.top_mount_stiffness_Npm > 0:
+            inertias.append(3 * diagonal(PART_INERTIA_KGM2["top_mount"]))
+        inertias += [diagonal(PART_INERTIA_KGM2["trailing_arm"]),
+                     diagonal(wheel_inertia_kgm2(params))]
+    return [(mass, com, inertia) for (mass, com), inertia
+            in zip(part_centres_of_mass(params), inertias)]
+
+
+def _rotation_z_to(direction):
+    """The rotation matrix of ``rpy_z_to(direction)`` (fixed-axis x-y-z: Rz(yaw) Ry(pitch))."""
+    _, pitch, yaw = rpy_z_to(direction)
+    cy, sy, cp, sp = math.cos(yaw), math.sin(yaw), math.cos(pitch), math.sin(pitch)
+    return (np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+            @ np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]]))
+
+
+def parallel_axis(mass, offset):
+    """The inertia a point mass at ``offset`` adds about the origin (3x3)."""
+    d = np.asarray(offset, dtype=float)
+    return mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
 
 
 def part_centres_of_mass(params: CarParameters):
@@ -157,6 +243,18 @@ def design_axle_loads_N(params: CarParameters):
     behind_front = -centre_of_mass(params)[0]
     return {"front": weight * (params.wheelbase_m - behind_front) / params.wheelbase_m,
             "rear": weight * behind_front / params.wheelbase_m}
+
+
+def steering_sign(params: CarParameters):
+    """+1 where the tie rod's outer end lies ahead of the steering axis (a rack ahead of the
+    axle: rack travel to the left steers the wheels left), -1 where it lies behind (a rack
+    behind the axle, as the BMW E90's: rack travel to the left steers them right). The rack
+    pushes the outer end sideways; its moment about the (near vertical) steering axis has the
+    sign of the end's lever ahead of the axis."""
+    p = front_corner_points(params, 1.0)
+    axis = p.top_mount - p.ball_joint
+    at_end = p.ball_joint + (p.tie_rod_outer[2] - p.ball_joint[2]) / axis[2] * axis
+    return 1.0 if p.tie_rod_outer[0] > at_end[0] else -1.0
 
 
 def rpy_z_to(direction):

@@ -95,9 +95,15 @@ def _read_tyre(path, version):
 
 
 def tir_path(name):
-    """A tyre property file: an absolute path; or a path inside the package's ``urdf/`` data
-    (``tyres/pacejka2006_205_60R15.tir``); or, when no such data exists, a path relative to the
-    working folder (made absolute)."""
+    """A tyre property file (``data_path``)."""
+    return data_path(name)
+
+
+def data_path(name):
+    """A file of the car's data (a tyre property file, a car file): an absolute path; or a path
+    inside the package's ``urdf/`` data (``tyres/pacejka2006_205_60R15.tir``,
+    ``cars/bmw_320i.yaml``); or, when no such data exists, a path relative to the working
+    folder (made absolute)."""
     path = Path(name)
     if path.is_absolute():
         return path

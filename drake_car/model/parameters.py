@@ -28,7 +28,8 @@ where the name says ``_deg``.
 import dataclasses
 import typing
 
-from drake_car.law.checks import ParameterError, checked, finite, nonnegative, positive
+from drake_car.law.checks import (
+    ParameterError, checked, finite, nonnegative, one_of, positive)
 
 GRAVITY_MPS2 = 9.81
 
@@ -83,11 +84,38 @@ class MassParameters:
                  "sprung_cog_height_m", "front_wheel_kg", "front_knuckle_kg",
                  "front_lower_arm_kg", "piston_rod_kg", "strut_slider_kg", "tie_rod_kg",
                  "rack_kg", "rear_wheel_kg", "rear_carrier_kg", "wheel_spin_inertia_kgm2")
-        _vector_check(self, "sprung_inertia_kgm2", positive_entries=True)
-        if self.total_mass_kg > 1e4:
-            raise ParameterError("total_mass_kg", self.total_mass_kg,
-                                 "must be <= 10000 kg (a passenger car)")
+        check_passenger_car_mass(self, "total_mass_kg")
+        check_inertia(self, "sprung_inertia_kgm2")
         return self
+
+
+# A passenger car's mass (kg): heavier than a heavy quadricycle (L7e: at most 450 kg unladen
+# for carrying passengers, Regulation (EU) No 168/2013, Annex I) and at most the 3500 kg
+# maximum authorised mass a category-B driving licence covers (Directive 2006/126/EC, Art. 4).
+PASSENGER_CAR_MASS_KG = (450.0, 3500.0)
+
+
+def check_passenger_car_mass(group, name):
+    low, high = PASSENGER_CAR_MASS_KG
+    value = getattr(group, name)
+    if not low <= value <= high:
+        raise ParameterError(name, value, f"must lie in [{low:g}, {high:g}] kg (a passenger "
+                             "car: above a heavy quadricycle's 450 kg, EU 168/2013; within a "
+                             "category-B licence's 3500 kg, Directive 2006/126/EC)")
+
+
+def check_inertia(group, name):
+    """Principal moments of inertia (about the x, y, z axes) of a rigid body: each positive and
+    none larger than the sum of the other two (the triangle inequality every body's principal
+    moments satisfy: I_x + I_y - I_z = 2 ∫ z² dm >= 0, and so on)."""
+    _vector_check(group, name, positive_entries=True)
+    moments = getattr(group, name)
+    for i, axis in enumerate("xyz"):
+        others = sum(moments) - moments[i]
+        if moments[i] > others:
+            raise ParameterError(name, moments, f"violates the triangle inequality: I_{axis} "
+                                 f"= {moments[i]:g} exceeds the sum of the other two "
+                                 f"({others:g}); no rigid body has such moments")
 
 
 @dataclasses.dataclass
@@ -117,6 +145,9 @@ class FrontSuspensionParameters:
     top_mount_height_m: float = 0.7825
     # [E90] strut (damper) axis lateral inclination; it leans back by the caster angle.
     strut_inclination_deg: float = 9.5
+    # The strut axis's lean back in the side view (deg): None leans it back by caster_deg (the
+    # steering axis's, as here); a car given by hard points states its own.
+    strut_caster_deg: typing.Optional[float] = None
     # [EST] strut internals (paper Fig. 2): guide 0.20 m below the top mount along the axis; guide
     # length l = overlap d between guide and piston at the design position; rod radius r (22 mm rod).
     guide_below_top_mount_m: float = 0.20
@@ -129,6 +160,10 @@ class FrontSuspensionParameters:
     spring_upper_seat_below_top_m: float = 0.02
     spring_offset_m: float = 0.0  # lateral offset of the spring line from the strut axis (outboard +)
     spring_inclination_deg: float = 0.0  # spring line vs strut axis, lateral plane (top inboard +)
+    # The same in the side view: the spring line's offset ahead of the strut axis (forward +)
+    # and its inclination against it (top rearward +); zero here, a hard-point car's own.
+    spring_offset_fore_aft_m: float = 0.0
+    spring_inclination_fore_aft_deg: float = 0.0
     # Damper in the cylindrical joint: [ESC] 1459 N s/m at the wheel ÷ MR², MR = 0.938 the
     # strut's extension per unit wheel travel at design (the kinematics rig). The paper's
     # lubricated strut has 1250 N s/m and its dry struts none (scenes/paper_study.yaml).
@@ -161,7 +196,8 @@ class FrontSuspensionParameters:
                  "spring_lower_seat_below_top_m", "rack_half_length_m", "rack_stroke_m",
                  "top_mount_body_kg", "top_mount_link_kg")
         finite(self, "ball_joint_offset_b_m", "ball_joint_x_m", "spring_offset_m",
-               "spring_upper_seat_below_top_m", "rack_x_m", "rack_height_m")
+               "spring_offset_fore_aft_m", "spring_upper_seat_below_top_m", "rack_x_m",
+               "rack_height_m")
         nonnegative(self, "strut_damping_Nspm", "top_mount_stiffness_Npm",
                     "top_mount_damping_Nspm", "anti_roll_bar_Nm_per_rad")
         for name in ("lower_arm_front_pivot_m", "lower_arm_rear_pivot_m", "tie_rod_outer_m"):
@@ -171,8 +207,13 @@ class FrontSuspensionParameters:
                 ("strut_inclination_deg", 30.0, "production McPherson fronts: 5-15 deg"),
                 ("caster_deg", 15.0, "production cars: 0-10 deg"),
                 ("spring_inclination_deg", 20.0,
-                 "beyond it the spring line leaves the strut's tower")):
+                 "beyond it the spring line leaves the strut's tower"),
+                ("spring_inclination_fore_aft_deg", 20.0,
+                 "beyond it the spring line leaves the strut's tower"),
+                ("strut_caster_deg", 15.0, "production cars: 0-10 deg")):
             value = getattr(self, name)
+            if value is None and name == "strut_caster_deg":
+                continue
             finite(self, name)
             if not -limit < value < limit:
                 raise ParameterError(name, value, f"must lie in (-{limit:g}, {limit:g}) deg "
@@ -184,10 +225,15 @@ class FrontSuspensionParameters:
             raise ParameterError("rack_gain_m_per_rad", self.rack_gain_m_per_rad,
                                  "must lie in [0.002, 0.05] m/rad (passenger-car steering: "
                                  "rack travel per steering-wheel radian)")
-        if not abs(self.spring_offset_m) < 0.1:
-            raise ParameterError("spring_offset_m", self.spring_offset_m,
-                                 "must lie in (-0.1, 0.1) m (the spring seat's radius)")
+        for name in ("spring_offset_m", "spring_offset_fore_aft_m"):
+            if not abs(getattr(self, name)) < 0.1:
+                raise ParameterError(name, getattr(self, name),
+                                     "must lie in (-0.1, 0.1) m (the spring seat's radius)")
         return self
+
+    def strut_lean_back_deg(self):
+        """The strut axis's lean back in the side view (deg)."""
+        return self.caster_deg if self.strut_caster_deg is None else self.strut_caster_deg
     # [EST] steering: rack ahead of the axle ("front steer"), tie rods from rack ends to arms.
     rack_x_m: float = 0.15
     # [EST] tie-rod inner (rack end) and outer points chosen by least squares over ±75 mm of
@@ -253,6 +299,11 @@ class TyreVerticalParameters:
 
 # The least lateral span of a front lower arm from its pivots to the ball joint (m).
 MIN_ARM_SPAN_M = 0.1
+# [EST] The least travel of the strut each way from its design position (m): a passenger
+# car's wheel travels at least ±50 mm (the kinematics rig sweeps ±80 mm), the strut about as
+# much at a motion ratio near 1.
+MIN_STRUT_TRAVEL_M = 0.05
+DRIVEN_AXLES = ("front", "rear")
 
 
 @dataclasses.dataclass
@@ -263,6 +314,10 @@ class CarParameters:
     front: FrontSuspensionParameters = dataclasses.field(default_factory=FrontSuspensionParameters)
     rear: RearSuspensionParameters = dataclasses.field(default_factory=RearSuspensionParameters)
     tyre: TyreVerticalParameters = dataclasses.field(default_factory=TyreVerticalParameters)
+    # The axle the engine drives through an open differential (or the paper's prescribed
+    # rotation): front for the Escort (a front-drive car), rear for a rear-drive car; the
+    # torque is reacted by the body (driveshafts) and the speed measured at the other axle.
+    driven_axle: str = "front"
 
     @property
     def wheelbase_m(self):
@@ -273,6 +328,7 @@ class CarParameters:
         car: ``front.guide_length_l_m``)."""
         for group in ("mass", "front", "rear", "tyre"):
             checked(getattr(self, group), group)
+        one_of(self, "driven_axle", DRIVEN_AXLES)
         f = self.front
         b = f.ball_joint_offset_b_m
         # The ball joint (at y = track/2 - b) sits outboard of both lower-arm pivots, the arm
@@ -298,6 +354,19 @@ class CarParameters:
                 "front.guide_length_l_m", f.guide_length_l_m,
                 "is too long: the piston (guide + l) must stay within 0.1 m of the strut's "
                 f"lower mount ({f.strut_lower_mount_below_top_m} m below the top mount)")
+        if not f.guide_below_top_mount_m < f.strut_lower_mount_below_top_m:
+            raise ParameterError(
+                "front.guide_below_top_mount_m", f.guide_below_top_mount_m,
+                "must be less than front.strut_lower_mount_below_top_m = "
+                f"{f.strut_lower_mount_below_top_m:g} m: the rod guide tops the cylinder, "
+                "which the knuckle clamps below it")
+        if not f.guide_length_l_m >= MIN_STRUT_TRAVEL_M:
+            raise ParameterError(
+                "front.guide_length_l_m", f.guide_length_l_m,
+                f"leaves the strut {f.guide_length_l_m:g} m of rebound travel (the piston "
+                f"reaches the guide when d = 0); it must be >= {MIN_STRUT_TRAVEL_M:g} m "
+                "(a wheel travels at least ±50 mm from its design position, the strut nearly "
+                "as much)")
         if not f.spring_upper_seat_below_top_m < f.spring_lower_seat_below_top_m:
             raise ParameterError("front.spring_upper_seat_below_top_m",
                                  f.spring_upper_seat_below_top_m,

@@ -32,7 +32,8 @@ import numpy as np
 
 from drake_car.data import resource
 from drake_car.model.geometry import (
-    SIDES, chassis_mass_and_com, front_corner_points, rear_corner_points, rpy_z_to)
+    PART_INERTIA_KGM2, SIDES, chassis_mass_and_com, front_corner_points, rear_corner_points,
+    rod_inertia_kgm2, rpy_z_to, tie_rod_inertia_kgm2, wheel_inertia_kgm2)
 from drake_car.model.parameters import CarParameters
 
 # The committed model file, in the project's urdf/ folder (the package's data).
@@ -117,13 +118,13 @@ def generate_sdformat(params: CarParameters) -> str:
     frames = []
     wheel_geometry = (f"<cylinder><radius>{radius}</radius>"
                       f"<length>{params.tyre.width_m}</length></cylinder>")
-    wheel_inertia = (0.5 * m.wheel_spin_inertia_kgm2 + 0.02, m.wheel_spin_inertia_kgm2)
+    wheel_inertia = wheel_inertia_kgm2(params)
 
     # Rack.
     f = params.front
     rack_origin = np.array([f.rack_x_m, 0.0, f.rack_height_m])
     parts.append(_link("steering_rack", rack_origin,
-                       _inertial(rack_origin, m.rack_kg, rack_origin, 0.03, 0.001, 0.03)
+                       _inertial(rack_origin, m.rack_kg, rack_origin, *PART_INERTIA_KGM2["steering_rack"])
                        + _cylinder_between("rack", rack_origin - [0, f.rack_half_length_m, 0],
                                            rack_origin + [0, f.rack_half_length_m, 0], 0.015,
                                            [0.5, 0.5, 0.5, 1])))
@@ -138,40 +139,38 @@ def generate_sdformat(params: CarParameters) -> str:
         tie = f"tie_rod_{side_name}"
         arm_com = (p.arm_front_pivot + p.arm_rear_pivot + p.ball_joint) / 3
         parts.append(_link(arm, p.arm_front_pivot,
-                           _inertial(p.arm_front_pivot, m.front_lower_arm_kg, arm_com, 0.02, 0.02, 0.04)
+                           _inertial(p.arm_front_pivot, m.front_lower_arm_kg, arm_com,
+                                     *PART_INERTIA_KGM2["lower_arm"])
                            + _cylinder_between("front_leg", p.arm_front_pivot, p.ball_joint, 0.015,
                                                [0.3, 0.3, 0.3, 1])
                            + _cylinder_between("rear_leg", p.arm_rear_pivot, p.ball_joint, 0.015,
                                                [0.3, 0.3, 0.3, 1])))
         knuckle_com = 0.6 * p.wheel_centre + 0.4 * p.strut_lower_mount
         parts.append(_link(knuckle, p.ball_joint,
-                           _inertial(p.ball_joint, m.front_knuckle_kg, knuckle_com, 0.15, 0.15, 0.08)
+                           _inertial(p.ball_joint, m.front_knuckle_kg, knuckle_com,
+                                     *PART_INERTIA_KGM2["knuckle"])
                            + _cylinder_between("cylinder", p.guide, p.strut_lower_mount, 0.025,
                                                [0.8, 0.3, 0.1, 1])
                            + _cylinder_between("upright", p.ball_joint, p.strut_lower_mount,
                                                0.02, [0.8, 0.3, 0.1, 1])))
         parts.append(_link(slider, p.guide,
-                           _inertial(p.guide, m.strut_slider_kg, p.guide, 1e-5, 1e-5, 1e-5)))
-        rod_length = f.guide_below_top_mount_m + f.guide_length_l_m
+                           _inertial(p.guide, m.strut_slider_kg, p.guide, *PART_INERTIA_KGM2["strut_slider"])))
         rod_com = (p.top_mount + p.piston) / 2
-        rod_transverse = m.piston_rod_kg * rod_length ** 2 / 12
-        rod_axial = 0.5 * m.piston_rod_kg * f.rod_radius_r_m ** 2
+        rod_transverse, _, rod_axial = rod_inertia_kgm2(params)
         parts.append(_link(rod, p.top_mount,
                            _inertial(p.top_mount, m.piston_rod_kg, rod_com, rod_transverse, rod_transverse,
                                      rod_axial, rpy=rpy_z_to(p.strut_axis_up))
                            + _cylinder_between("rod", p.top_mount, p.piston, f.rod_radius_r_m,
                                                [0.85, 0.85, 0.85, 1])))
         parts.append(_link(wheel, p.wheel_centre,
-                           _inertial(p.wheel_centre, m.front_wheel_kg, p.wheel_centre, wheel_inertia[0],
-                                     wheel_inertia[1], wheel_inertia[0])
+                           _inertial(p.wheel_centre, m.front_wheel_kg, p.wheel_centre, *wheel_inertia)
                            + _visual("tyre", list(p.wheel_centre) + [math.pi / 2, 0, 0],
                                      wheel_geometry, [0.1, 0.1, 0.1, 1])))
         tie_inner, tie_outer = p.tie_rod_inner, p.tie_rod_outer
         tie_length = float(np.linalg.norm(tie_outer - tie_inner))
         parts.append(_link(tie, tie_inner,
                            _inertial(tie_inner, m.tie_rod_kg, (tie_inner + tie_outer) / 2,
-                                     m.tie_rod_kg * tie_length ** 2 / 12, 1e-4,
-                                     m.tie_rod_kg * tie_length ** 2 / 12)
+                                     *tie_rod_inertia_kgm2(params, p))
                            + _cylinder_between("tie_rod", tie_inner, tie_outer, 0.008,
                                                [0.5, 0.5, 0.5, 1])))
         arm_axis = p.arm_rear_pivot - p.arm_front_pivot
@@ -191,7 +190,7 @@ def generate_sdformat(params: CarParameters) -> str:
                 child = (f"top_mount_body_{side_name}" if axis_name == "z"
                          else f"top_mount_link_{axis_name}_{side_name}")
                 parts.append(_link(child, p.top_mount, _inertial(
-                    p.top_mount, mass, p.top_mount, 1e-4, 1e-4, 1e-4)))
+                    p.top_mount, mass, p.top_mount, *PART_INERTIA_KGM2["top_mount"])))
                 parts.append(_joint(f"top_mount_{axis_name}_{side_name}", "prismatic", parent,
                                     child, p.top_mount, axis=axis))
                 parent = child
@@ -226,12 +225,11 @@ def generate_sdformat(params: CarParameters) -> str:
         lever = float(np.hypot(r.wheel_centre[0] - r.pivot[0], r.wheel_centre[2] - r.pivot[2]))
         parts.append(_link(rear_arm, r.pivot,
                            _inertial(r.pivot, m.rear_carrier_kg, 0.3 * r.pivot + 0.7 * r.wheel_centre,
-                                     0.1, 0.3, 0.3)
+                                     *PART_INERTIA_KGM2["trailing_arm"])
                            + _cylinder_between("arm", r.pivot, r.wheel_centre, 0.03,
                                                [0.3, 0.3, 0.3, 1])))
         parts.append(_link(rear_wheel, r.wheel_centre,
-                           _inertial(r.wheel_centre, m.rear_wheel_kg, r.wheel_centre, wheel_inertia[0],
-                                     wheel_inertia[1], wheel_inertia[0])
+                           _inertial(r.wheel_centre, m.rear_wheel_kg, r.wheel_centre, *wheel_inertia)
                            + _visual("tyre", list(r.wheel_centre) + [math.pi / 2, 0, 0],
                                      wheel_geometry, [0.1, 0.1, 0.1, 1])))
         parts.append(_joint(f"trailing_arm_pivot_{side_name}", "revolute", "chassis", rear_arm, r.pivot, axis=[0, 1, 0],
@@ -243,11 +241,15 @@ def generate_sdformat(params: CarParameters) -> str:
             _frame(f"rear_spring_lower_seat_{side_name}", rear_arm, r.spring_lower_seat),
         ]
 
+    about = ("     Car: Ford Escort (NA, 1981-90) mass data; McPherson hard points estimated\n"
+             "     (see drake_car/model/parameters.py for every number's source). -->\n"
+             if params == CarParameters() else
+             "     Car: the scene's (its car file or car: values say where each number is\n"
+             "     from). -->\n")
     header = (
         "<?xml version=\"1.0\"?>\n"
         "<!-- Generated by drake_car.model.sdformat from CarParameters; do not edit by hand.\n"
-        "     Car: Ford Escort (NA, 1981-90) mass data; McPherson hard points estimated\n"
-        "     (see drake_car/model/parameters.py for every number's source). -->\n"
+        + about +
         "<sdf version=\"1.9\" xmlns:drake=\"http://drake.mit.edu\">\n"
         "<model name=\"car\">")
     return header + "".join(parts + frames) + "\n</model>\n</sdf>\n"

@@ -10,21 +10,22 @@ the key path, the value and what is allowed, as one line (``SceneError``).
 
 import dataclasses
 import hashlib
-import typing
 from pathlib import Path
 
-from pydrake.common.yaml import yaml_dump_typed, yaml_load, yaml_load_typed
+from pydrake.common.yaml import yaml_dump_typed, yaml_load
 
 from drake_car.data import resource
 from drake_car.law.checks import ParameterError, checked, excerpt, one_line
+from drake_car.scene.car_file import derived_note, with_car_file
+from drake_car.scene.car_limits import check_car
 from drake_car.scene.limits import check_limits, check_plant
 from drake_car.scene.guard import (
-    PLAIN_NAME, YamlInputError, announce_large_road, check_entry_name, check_yaml,
-    read_yaml_file)
+    PLAIN_NAME, announce_large_road, check_entry_name, check_yaml, read_yaml_file)
+from drake_car.scene.raw import SceneError, check_raw as _check_raw, guarded as _guarded
+from drake_car.scene.raw import typed as _typed
 from drake_car.scene.manoeuvres import MAX_DURATION_S, Settle
 from drake_car.scene.scene import HandsOff, Scene
 from drake_car.scene.vertical import resolve_vertical
-from drake_car.law.errors import InputError
 
 # Every channel group a scene can log.
 CHANNEL_GROUPS = ("chassis", "steering", "struts", "tyres", "friction", "energy", "top_mounts",
@@ -45,11 +46,6 @@ def _duration(seconds):
     return f"{seconds / 3600:.1f} h"
 
 
-class SceneError(InputError):
-    """A scene is malformed or asks for something impossible; the message names where, the key
-    path, the value and what is allowed."""
-
-
 def load_scene(path=None, *, child=None, scene_text=None, base=None,
                text_origin="--scene_text") -> Scene:
     """A scene from ``path`` (its top-level entry ``child``; a file with one entry needs none),
@@ -58,6 +54,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
     user's scene file). ``text_origin``: where ``scene_text`` came from, for errors."""
     scene = Scene() if base is None else base
     where = "scene defaults"
+    layers = []  # (where, raw YAML, typed-load arguments)
     if path is not None:
         path = Path(path)
         text, data = _read_file(path)
@@ -73,7 +70,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
         where = f"{path} [{child}]"
         _check_raw(data[child], Scene, where, "")
         _check_own_name(data[child], where)
-        scene = _typed(where, schema=Scene, data=text, child_name=child, defaults=scene)
+        layers.append((where, data[child], {"data": text, "child_name": child}))
     if scene_text:
         where = f"{text_origin} {excerpt(scene_text)}"
         _guarded(check_yaml, scene_text, where)
@@ -85,7 +82,17 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
             raw = {}
         _check_raw(raw, Scene, where, "")
         _check_own_name(raw, where)
-        scene = _typed(where, schema=Scene, data=scene_text, defaults=scene)
+        layers.append((where, raw, {"data": scene_text}))
+    # A car file lies beneath every layer's car: values (scene.car_file).
+    named = [(w, raw["car_file"]) for w, raw, _ in layers
+             if isinstance(raw, dict) and "car_file" in raw]
+    if named and named[-1][1] != scene.car_file:
+        try:
+            scene = with_car_file(scene, named[-1][1])
+        except SceneError as e:
+            raise SceneError(f"{named[-1][0]}: {e}") from None
+    for where, _, arguments in layers:
+        scene = _typed(where, schema=Scene, defaults=scene, **arguments)
     return check_scene(scene, where)
 
 
@@ -192,12 +199,16 @@ def check_scene(scene: Scene, where="scene") -> Scene:
             value = getattr(scene, section)
             if value is not None:
                 checked(value, section)
+        try:
+            check_car(scene.car)
+        except ParameterError as e:
+            raise e.within("car") from None
         check_plant(scene.plant)
         _check_cross(scene)
         scene = resolve_vertical(scene)
         check_limits(scene)
     except ParameterError as e:
-        raise SceneError(f"{where}: {e}") from None
+        raise SceneError(f"{where}: {e}{derived_note(scene, e.key)}") from None
     announce_large_road(scene, where)
     return scene
 
@@ -274,13 +285,6 @@ def _check_cross(scene: Scene):
 
 # -- raw YAML against the schema ------------------------------------------------------------
 
-def _guarded(check, *args):
-    try:
-        return check(*args)
-    except YamlInputError as e:
-        raise SceneError(str(e)) from None
-
-
 def _read_file(path: Path):
     """(text, parsed YAML) of a scene file, bounded (``scene.guard``) before parsing."""
     text = _guarded(read_yaml_file, path)
@@ -302,89 +306,3 @@ def _entries(path, data):
 
 def _read_entries(path: Path):
     return _entries(path, _read_file(path)[1])
-
-
-def _typed(where, **kwargs):
-    try:
-        return yaml_load_typed(**kwargs)
-    except Exception as e:  # what the raw check did not catch
-        raise SceneError(f"{where}: {one_line(e)}") from None
-
-
-def _fields(schema):
-    if dataclasses.is_dataclass(schema):
-        hints = typing.get_type_hints(schema)
-        return {f.name: hints[f.name] for f in dataclasses.fields(schema)}
-    return {f.name: f.type for f in getattr(schema, "__fields__", ())}
-
-
-def _name(key):
-    return key or "the scene"
-
-
-def _check_raw(data, schema, where, key):
-    """Walks raw YAML ``data`` against ``schema``; raises SceneError at the first key whose
-    value cannot be what the schema asks."""
-    def fail(value, requirement):
-        raise SceneError(f"{where}: {_name(key)} = {excerpt(value)} {requirement}")
-
-    origin = typing.get_origin(schema)
-    if origin is typing.Union:
-        options = [t for t in typing.get_args(schema) if t is not type(None)]
-        if data is None:
-            if len(options) < len(typing.get_args(schema)):
-                return
-            fail(data, "must be given")
-        if len(options) == 1:
-            return _check_raw(data, options[0], where, key)
-        tag = data.get("_tag") if isinstance(data, dict) else None
-        names = {t.__name__: t for t in options}
-        if tag is None:
-            return _check_raw(data, options[0], where, key)
-        if tag.lstrip("!") not in names:
-            fail(tag, f"must be one of {', '.join('!' + n for n in names)}")
-        body = {k: v for k, v in data.items() if k != "_tag"}
-        return _check_raw(body, names[tag.lstrip("!")], where, key)
-    if origin in (list, typing.List):
-        (item,) = typing.get_args(schema)
-        if not isinstance(data, list):
-            fail(data, "must be a list")
-        for i, value in enumerate(data):
-            _check_raw(value, item, where, f"{key}[{i}]")
-        return
-    if schema is float:
-        if isinstance(data, bool) or not isinstance(data, (int, float, str)):
-            fail(data, "must be a number")
-        if isinstance(data, str):
-            try:
-                float(data)
-            except ValueError:
-                fail(data, "must be a number")
-        return
-    if schema is bool:
-        if not isinstance(data, bool):
-            fail(data, "must be true or false")
-        return
-    if schema is str:
-        if not isinstance(data, str):
-            fail(data, "must be a string")
-        return
-    if schema is int:
-        if isinstance(data, bool) or not isinstance(data, int):
-            fail(data, "must be an integer")
-        return
-    fields = _fields(schema)
-    if not fields and not dataclasses.is_dataclass(schema):
-        return
-    if data is None:
-        return
-    if not isinstance(data, dict):
-        fail(data, f"must be a mapping of {', '.join(fields) or 'nothing'}")
-    for name, value in data.items():
-        if name == "_tag":
-            fail(value, f"must not carry a tag ({schema.__name__} has no variants)")
-        if name not in fields:
-            inner = f"{key}.{name}" if key else name
-            raise SceneError(f"{where}: unknown key {excerpt(inner)}"
-                             + (f"; {_name(key)} has {', '.join(fields)}" if fields else ""))
-        _check_raw(value, fields[name], where, f"{key}.{name}" if key else name)

@@ -3,6 +3,9 @@ Drake's ``yaml_load_typed``; see ``scene.load``). A run is a pure function of it
 
 Sections, each a loadable dataclass with a ``check()`` that names a bad key:
 
+- ``car_file``: a car file (``model.hard_points``: the car from its hard points, the whole
+  car's mass and centre of gravity, the rates), read where the scene is loaded into ``car``
+  (``scene.car_file``), beneath the scene's own ``car:`` values; None: the Escort's defaults;
 - ``car``: the car's parameters (``model.parameters.CarParameters``: every number with its
   source), from which the model file is generated;
 - ``friction``: dry friction in the front struts (None: none; the lubricated strut is the car's
@@ -13,7 +16,8 @@ Sections, each a loadable dataclass with a ``check()`` that names a bad key:
   ``!StepSteer`` (``scene.manoeuvres``), ``!DoubleLaneChange``, ``!ConstantRadius``
   (``scene.paths``: defined by a path);
 - ``drive``: ``!OpenDifferential`` (default: one torque split equally) or
-  ``!PrescribedRotation`` (the paper's: both front wheels' rotation prescribed);
+  ``!PrescribedRotation`` (the paper's: both front wheels' rotation prescribed), on the car's
+  ``driven_axle``;
 - ``steering``: ``!HeldRack`` (default: the rack follows the command), ``!HandsOff`` or
   ``!PathFollower`` (a driver follows a path manoeuvre's path);
 - ``plant``: Drake's ``MultibodyPlantConfig`` (the time step; the car needs SAP);
@@ -125,8 +129,9 @@ Tyres = typing.Union[MagicFormula, LinearTyre, VerticalOnly]
 @dataclasses.dataclass
 class PrescribedRotation:
     """The paper's drive (section 4): both front wheels' rotation prescribed by stiff servos
-    (a locked front axle). ``reaction``: driveshaft (the torque is reacted by the body, as in a
-    front-drive car) or knuckle (reacted at the wheel joint, as a joint motion in Adams)."""
+    (a locked front axle; a rear-drive car's ``car.driven_axle``: the rear wheels'). ``reaction``:
+    driveshaft (the torque is reacted by the body, as in a car) or knuckle (reacted at the wheel
+    joint's carrier, as a joint motion in Adams)."""
 
     reaction: str = "driveshaft"
 
@@ -137,10 +142,11 @@ class PrescribedRotation:
 
 @dataclasses.dataclass
 class OpenDifferential:
-    """One drive torque split equally between the front wheels (an open differential), from a
-    speed controller: T = m R a_ref(t) + K (v_ref(t) - v), v the car's speed measured at the
-    free-rolling rear wheels, clamped to ±``max_wheel_torque_Nm`` (both wheels together).
-    The torque is reacted by the body (driveshafts)."""
+    """One drive torque split equally between the driven wheels (an open differential on the
+    car's ``driven_axle``: the front wheels of a front-drive car), from a speed controller:
+    T = m R a_ref(t) + K (v_ref(t) - v), v the car's speed measured at the free-rolling wheels
+    of the other axle, clamped to ±``max_wheel_torque_Nm`` (both wheels together). The torque
+    is reacted by the body (driveshafts)."""
 
     # [EST] τ = m R / K = 0.2 s: the car follows its speed profile within a few tenths of a
     # second without exciting the wheels' spin (their own time constant is ~10 ms).
@@ -304,6 +310,7 @@ def default_plant_config():
 @dataclasses.dataclass
 class Scene:
     name: str = "scene"
+    car_file: typing.Optional[str] = None
     car: CarParameters = dataclasses.field(default_factory=CarParameters)
     friction: typing.Optional[Friction] = None
     tyres: Tyres = dataclasses.field(default_factory=MagicFormula)

@@ -6,6 +6,7 @@ were checked once, where it was loaded (``scene.load.check_scene``, ``scene.limi
 import dataclasses
 import logging
 
+import numpy as np
 from pydrake.multibody.plant import AddMultibodyPlant, ExternallyAppliedSpatialForceMultiplexer
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import (
@@ -18,7 +19,7 @@ from drake_car.model.anti_roll_bar import anti_roll_bar_gain
 from drake_car.model.car import add_car
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import add_drive_actuators
-from drake_car.model.geometry import design_axle_loads_N
+from drake_car.model.geometry import design_axle_loads_N, steering_sign
 from drake_car.model.loading import read_tyre
 from drake_car.model.steering import add_steering_column, column_strut, release_schedule
 from drake_car.model.struts import declare_strut_friction, make_strut_friction
@@ -160,6 +161,14 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         rack = builder.AddSystem(TrajectorySource(scene.manoeuvre.rack(), 1))
         rack.set_name("rack_command")
         rack_port = rack.get_output_port(0)
+    if not (external_driver or isinstance(scene.steering, PathFollower)) and (
+            steering_sign(scene.car) < 0):
+        # A manoeuvre's rack travel is a front-steer linkage's (left steers left): a rack
+        # behind the axle travels the other way (a driver's command is the rack's own).
+        mirror = builder.AddSystem(MatrixGain(-np.eye(2)))
+        mirror.set_name("rack_behind_the_axle")
+        builder.Connect(rack_port, mirror.get_input_port())
+        rack_port = mirror.get_output_port()
     wiring.connect("rack", desired=rack_port)
     if column.pairs is not None:
         _let_go(builder, plant, car, scene, column, wiring)

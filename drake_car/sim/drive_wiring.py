@@ -1,4 +1,4 @@
-"""The drive's stage of the build: the drive torque on the front wheels (an open
+"""The drive's stage of the build: the drive torque on the driven axle's wheels (an open
 differential's speed controller and rev limit, or the paper's prescribed rotation), all in
 Drake's C++ primitives, and the driveshafts whose reaction the tyre system applies to the body."""
 
@@ -6,7 +6,9 @@ import numpy as np
 from pydrake.systems.primitives import (
     Adder, ConstantVectorSource, MatrixGain, Multiplexer, Saturation, TrajectorySource)
 
-from drake_car.model.drive import differential_speed_gain, open_differential_gain, rolling_radius
+from drake_car.model.drive import (
+    differential_speed_gain, driven_axle, driven_wheel_carriers, open_differential_gain,
+    rolling_radius)
 from drake_car.scene.manoeuvres import speed_trajectory, wheel_rotation_trajectory
 from drake_car.scene.scene import OpenDifferential, PrescribedRotation
 from drake_car.systems.driveshaft import Driveshafts
@@ -20,19 +22,19 @@ def driveshafts(plant, car, scene):
     if not scene.manoeuvre.drives or (isinstance(drive, PrescribedRotation)
                                        and drive.reaction != "driveshaft"):
         return None
-    return Driveshafts(plant, car.instance, car.drive_actuators,
-                       [car.body(f"knuckle_{side}") for side in ("left", "right")],
+    return Driveshafts(plant, car.instance, car.drive_actuators, driven_wheel_carriers(car),
                        car.body("chassis"))
 
 
 def add_drive(builder, plant, car, scene, wiring):
-    """The drive torque on the front wheels (the tyre system reacts it through the
+    """The drive torque on the driven wheels (the tyre system reacts it through the
     driveshafts, ``driveshafts``)."""
     timeline = scene.manoeuvre.timeline
     drive = scene.drive
+    axle, _ = driven_axle(scene.car)
     if isinstance(drive, PrescribedRotation):
         command = builder.AddSystem(TrajectorySource(
-            wheel_rotation_trajectory(timeline, rolling_radius(scene.car)), 1))
+            wheel_rotation_trajectory(timeline, rolling_radius(scene.car, axle)), 1))
         command.set_name("drive_command")
         wiring.connect("drive", desired=command.get_output_port(0))
     else:
@@ -62,7 +64,7 @@ def add_governor(builder, plant, car, scene, drive, torque):
     speed = builder.AddSystem(MatrixGain(differential_speed_gain(plant, car)))
     speed.set_name("differential_speed")
     builder.Connect(plant.get_state_output_port(), speed.get_input_port())
-    top = scene.manoeuvre.timeline.speed_mps / rolling_radius(scene.car)
+    top = scene.manoeuvre.timeline.speed_mps / rolling_radius(scene.car, driven_axle(scene.car)[0])
     offset = builder.AddSystem(ConstantVectorSource([-drive.rev_limit_ratio * top]))
     offset.set_name("rev_limit")
     over = builder.AddSystem(Adder(2, 1))

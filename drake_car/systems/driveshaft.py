@@ -9,9 +9,10 @@ class Driveshafts:
     (``systems.tyre.TyreSystem(driveshafts=...)``, which has the wheels' spin axes every step
     already: one Python call per step serves the tyres and the driveshafts).
 
-    The front wheels are driven by actuators on the wheel-knuckle joints, which react their
-    torque T on the knuckle (as a motion on the joint does in Adams). In a front-drive car the
-    torque comes through the driveshaft from the body-mounted engine: +T·a is applied to each
+    The driven wheels are driven by actuators on their spin joints, which react their torque T
+    on the body the wheel turns on, its "knuckle" here (the front's knuckle, the rear's trailing
+    arm), as a motion on the joint does in Adams. In a car the torque comes through the
+    driveshaft from the body-mounted engine: +T·a is applied to each
     knuckle (cancelling the joint's reaction) and -ΣT·a to the chassis, a the wheel's spin axis
     in world. T is read from the plant's ``net_actuation`` output of ``instance`` (entries
     ``actuation_indices``), a sampled output: the transfer lags the actuator's torque by one

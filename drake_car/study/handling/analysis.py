@@ -9,7 +9,8 @@ import time
 
 import numpy as np
 
-from drake_car.model.geometry import design_axle_loads_N, whole_car_cog_to_front_m
+from drake_car.model.geometry import (
+    design_axle_loads_N, steering_sign, whole_car_cog_to_front_m)
 from drake_car.model.kinematics_sweep import run_kinematics_sweep
 from drake_car.scene.load import SceneError
 from drake_car.scene.manoeuvres import RampSteer, StepSteer
@@ -76,9 +77,15 @@ def handling_study(scenes, fit_range, *, crosscheck_why=None, progress=True,
         base = analyse(runs["shipped_tyre"], fit_range)
         result["tyre_change"] = {"rows": tyre_section.changes(result, base), "note": note}
         walls["the shipped tyre's runs and metrics"] = time.perf_counter() - started
+    vehicle = crosscheck.parameter_set_of(scenes["steady_state"].car) if (
+        crosscheck_why is None) else None
+    if crosscheck_why is None and vehicle is None:
+        crosscheck_why = ("CommonRoad has no parameter set of this car (its sets "
+                          + ", ".join(f"{i}: {n}" for i, n in crosscheck.PARAMETER_SETS.items())
+                          + ", by total mass and front track)")
     if crosscheck_why is None:
         started = time.perf_counter()
-        result["crosscheck"] = cross_check(runs, result, fit_range)
+        result["crosscheck"] = cross_check(runs, result, fit_range, vehicle)
         walls["cross-check"] = time.perf_counter() - started
     else:
         result["crosscheck"] = {"skipped": crosscheck_why}
@@ -122,7 +129,8 @@ def analyse(runs, fit_range):
     budget = understeer_budget(h, car, tyre, kinematic_steer_rad=rack_steer, combined=combined,
                                linear=linear, ay_range=fit_range)
     command = ramp.scene.manoeuvre.rack()
-    rack_command = np.array([command.value(t)[0, 0] for t in h["t"]])
+    # The rack's own travel (a rack behind the axle travels against the command: sim.build).
+    rack_command = steering_sign(car) * np.array([command.value(t)[0, 0] for t in h["t"]])
     servo = handling.steady_state(
         h, steer_rad=handling.kinematic_steer_rad(rack_command, steering),
         wheelbase_m=L, cog_offset_m=a, mass_kg=mass,
@@ -136,6 +144,7 @@ def analyse(runs, fit_range):
     return {
         "fit_range_mps2": list(fit_range), "steering": steering,
         "rack_gain_m_per_rad": gain, "steering_ratio": steering_ratio(steering, gain),
+        "steering_sign": steering_sign(car),
         "mass_kg": car.mass.total_mass_kg, "cog_offset_m": a, "wheelbase_m": L,
         "t_steer_s": {name: handling.first_time(r.history["phase"], r.history["t"], "III")
                       for name, r in runs.items()},
@@ -166,7 +175,7 @@ def steering_ratio(steering, rack_gain_m_per_rad):
     rack = np.asarray(steering["rack_m"], float)
     mean = np.radians(0.5 * (np.asarray(steering["steer_left_deg"])
                              + np.asarray(steering["steer_right_deg"])))
-    slope = float(np.interp(0.0, rack, np.gradient(mean, rack)))
+    slope = abs(float(np.interp(0.0, rack, np.gradient(mean, rack))))  # a rack behind: < 0
     return 1.0 / (rack_gain_m_per_rad * slope) if slope else float("nan")
 
 
@@ -179,14 +188,17 @@ def step_series(h, rack_steer, cog_offset, mass):
             "speed_mps": g["speed"]}
 
 
-def cross_check(runs, result, fit_range):
-    """CommonRoad's MB on our runs' road-wheel steer and speed; its metrics; the single-track
-    chain from its data to ours; the understeer reconciliation."""
-    p = crosscheck.parameters()
+def cross_check(runs, result, fit_range, vehicle=(1, "Ford Escort")):
+    """CommonRoad's MB (its parameter set ``vehicle``: (id, name)) on our runs' road-wheel steer
+    and speed; its metrics; the single-track chain from its data to ours; the understeer
+    reconciliation."""
+    p = crosscheck.parameters(vehicle[0])
     L_mb = p.a + p.b
-    out = {"parameters": {k: getattr(p, k) for k in (
-        "m", "m_s", "a", "b", "I_z", "h_s", "T_f", "T_r", "K_sf", "K_sr", "K_tsf", "K_tsr",
-        "K_zt", "h_raf", "h_rar")} | {"tire_p_ky1": p.tire.p_ky1}}
+    out = {"vehicle": {"id": vehicle[0], "name": vehicle[1]},
+           "parameters": {k: getattr(p, k) for k in (
+               "m", "m_s", "m_uf", "m_ur", "a", "b", "I_z", "h_s", "T_f", "T_r", "K_sf",
+               "K_sr", "K_tsf", "K_tsr", "K_zt", "h_raf", "h_rar")}
+           | {"tire_p_ky1": p.tire.p_ky1}}
     windows = {}
     for name, before in (("steady_state", 1.0), ("step_steer", 0.5)):
         h = runs[name].history

@@ -1,13 +1,15 @@
 """Cross-check against an independent model of the same car: CommonRoad's multi-body model (MB,
 ``vehiclemodels.vehicle_dynamics_mb`` of the PyPI package commonroad-vehicle-models, a test
-extra) with its parameter set 1, the Ford Escort of the NHTSA report our parameters come from,
-driven through our run's road-wheel steer series at the speed our car held.
+extra) with its parameter set of the car that ran (set 1, the Ford Escort of the NHTSA report
+the shipped car's parameters come from; set 2, the BMW 320i of the second shipped car:
+``parameter_set_of``), driven through our run's road-wheel steer series at the speed our car
+held. A car CommonRoad has no set of is not cross-checked.
 
 Its conventions, read from its equations (SAE J670: x forward, y right, z down): steer, yaw
 rate, lateral velocity, sideslip and lateral acceleration are positive to the right; roll is
 positive with the right side down, as ISO's. So steer, yaw rate, a_y and sideslip change sign
 between its frame and ours (ISO 8855); roll does not. Its a, b are the sprung mass's CoG
-distances (0.884 / 1.509 m, ours are the whole car's); its a_y is its whole car's (Σ tyre
+distances (the Escort's 0.884 / 1.509 m; ours are the whole car's); its a_y is its whole car's (Σ tyre
 forces over m, as ours), its sideslip and speed are the sprung mass's CoG's.
 
 What the wrapper adds; the package's model runs unchanged:
@@ -45,10 +47,25 @@ def available():
     return True, ""
 
 
-def parameters():
-    """MB's parameter set 1 (Ford Escort)."""
-    from vehiclemodels.parameters_vehicle1 import parameters_vehicle1
-    return parameters_vehicle1()
+# CommonRoad's parameter sets of the cars drake_car ships.
+PARAMETER_SETS = {1: "Ford Escort", 2: "BMW 320i"}
+
+
+def parameters(vehicle_id=1):
+    """MB's parameter set ``vehicle_id`` (PARAMETER_SETS)."""
+    from vehiclemodels.vehicle_parameters import setup_vehicle_parameters
+    return setup_vehicle_parameters(vehicle_id=vehicle_id)
+
+
+def parameter_set_of(car):
+    """(id, name) of CommonRoad's parameter set of ``car`` (``CarParameters``): the set whose
+    total mass is the car's within 0.1 % and front track within 5 mm; None if none is."""
+    for vehicle_id, name in PARAMETER_SETS.items():
+        p = parameters(vehicle_id)
+        if (abs(p.m / car.mass.total_mass_kg - 1) < 1e-3
+                and abs(p.T_f - car.front.track_m) < 5e-3):
+            return vehicle_id, name
+    return None
 
 
 @contextlib.contextmanager

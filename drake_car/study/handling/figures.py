@@ -162,8 +162,10 @@ def crosscheck_figures(result, out):
     ax.plot(s["mb_steer_deg"][turning], s["mb_yaw_rate_degps"][turning], label="CommonRoad MB")
     ax.set(xlabel="road-wheel angle (deg)", ylabel="yaw rate (deg/s)")
     ax.legend(fontsize=8)
+    vehicle = cc.get("vehicle", {"id": 1, "name": "Ford Escort"})
     fig.suptitle(f"Ramp steer at {3.6 * v:.1f} km/h: drake_car against CommonRoad's multi-body "
-                 "model (parameter set 1), same road-wheel steer")
+                 f"model (parameter set {vehicle['id']}, {vehicle['name']}), same road-wheel "
+                 "steer")
     _save(fig, out / "crosscheck" / "crosscheck_ramp.png")
 
     s = cc["series_step"]

@@ -30,6 +30,8 @@ def report(result):
     lo, hi = result["fit_range_mps2"]
     v = m["speed_mps"]
     wall_parts = ", ".join(f"{k} {v:.1f} s" for k, v in walls.items() if k != "total")
+    torque_gradient = (m["rack_force_gradient_N_per_g"] * result["rack_gain_m_per_rad"]
+                       * result.get("steering_sign", 1.0))
     lines = [
         "# drake_car: handling (ISO 4138, ISO 7401), understeer budget, cross-check", "",
         f"Made by `{prov['command']}`; {prov['created_utc']}, drake {prov['drake']}, commit "
@@ -62,7 +64,7 @@ def report(result):
         f"| sideslip gradient at the CoG | {m['sideslip_gradient_deg_per_g']:.2f} deg/g |",
         f"| rack-force gradient | {m['rack_force_gradient_N_per_g']:.0f} N/g |",
         f"| steering-wheel torque gradient (rack force × c, unassisted) | "
-        f"{m['rack_force_gradient_N_per_g'] * result['rack_gain_m_per_rad']:.2f} N m/g |",
+        f"{torque_gradient:.2f} N m/g |",
         f"| overall steering ratio at the centre, 1/(c dδ/dq) | "
         f"{result['steering_ratio']:.1f} : 1 (rack gain c = "
         f"{1e3 * result['rack_gain_m_per_rad']:g} mm/rad, `car.front.rack_gain_m_per_rad`) |",
@@ -175,6 +177,9 @@ def _crosscheck_section(result):
                 f"Not run: {cc['skipped']}.", ""]
     ours, mb, chain = result["steady_state"]["metrics"], cc["ramp"], cc["chain"]
     p, roll = cc["parameters"], cc["roll_model"]
+    vehicle = cc.get("vehicle", {"id": 1, "name": "Ford Escort"})
+    # Its whole car's CoG: the sprung mass at a, the unsprung masses at the axles.
+    mb_whole_a = (p["m_s"] * p["a"] + p.get("m_ur", 0.0) * (p["a"] + p["b"])) / p["m"]
     step, mb_step = result["step_steer"]["metrics"], cc["step"]
     v = ours["speed_mps"]
     rec = {r["key"]: r for r in cc["reconciliation"]}
@@ -262,15 +267,16 @@ def _crosscheck_section(result):
          math.degrees(mb_step["sideslip"]["steady"]), "as the sideslip gradient (above)"),
     ]
     lines = [
-        "## Cross-check against CommonRoad's multi-body model (Ford Escort, parameter set 1)",
+        f"## Cross-check against CommonRoad's multi-body model ({vehicle['name']}, parameter "
+        f"set {vehicle['id']})",
         "",
         "CommonRoad's MB model (`vehiclemodels`, unchanged; wrapper "
         "`drake_car/study/handling/crosscheck.py`) driven by our runs' measured road-wheel angle (mean "
         "of steer_fl/fr, its sign flipped to its SAE frame) at the speed our car held, "
         "settled straight for 4 s first. Its steer, yaw rate, a_y and sideslip are converted "
         "back to ISO signs (roll keeps its sign). a_y is each whole car's CoG's (its tyre "
-        "forces over its mass), sideslip is at its sprung mass's CoG (0.884 m behind the "
-        "front axle) and at the point on the ground below our CoG (0.884 m). Both "
+        f"forces over its mass), sideslip is at its sprung mass's CoG ({p['a']:.3f} m behind "
+        f"the front axle) and at the point on the ground below our CoG ({p['a']:.3f} m). Both "
         "understeer gradients here use the wheels' angle (ours without roll steer). "
         "Differences over 10 % are attributed in the last column.", "",
         "| quantity | drake_car | CommonRoad MB | difference | attribution |",
@@ -295,7 +301,7 @@ def _crosscheck_section(result):
         "aligning moment, no relaxation; its static loads "
         f"{cc['static_axle_loads_N']['front']:.0f} / {cc['static_axle_loads_N']['rear']:.0f} N "
         "include the unsprung masses while its yaw lever arms are the sprung mass's a, b "
-        "(its whole-car CoG is 0.917 m behind the front axle).", "",
+        f"(its whole-car CoG is {mb_whole_a:.3f} m behind the front axle).", "",
         "**Single-track models from its data to ours**, one difference at a time (the step's "
         "times from the same steer series):", "",
         "| model | C_f / C_r (kN/rad) | m (kg) | a (m) | I_z (kg m²) | σ (m) | K (deg/g) | "

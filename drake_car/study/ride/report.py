@@ -152,6 +152,13 @@ def summary_text(rows):
     return "\n".join(lines)
 
 
+def _track_m(study, runs):
+    """The road's tracks' distance: the study's, or the car's front track."""
+    if study.track_m is not None or not runs:
+        return study.track_m
+    return next(iter(runs.values())).scene.car.front.track_m
+
+
 def write_outputs(out, rows, runs, study, wall_s):
     """DIR/outcomes.csv, the figures and DIR/report.md of ``rows`` (``analysis.collect``);
     ``runs``: name -> a finished run (.scene, .history) for the spectra."""
@@ -192,7 +199,7 @@ def write_outputs(out, rows, runs, study, wall_s):
     scene, lubricated = first.scene, [r for r in runs.values() if r.scene.friction is None]
     car = car_facts(lubricated[0].scene if lubricated else scene)
     steps = sorted({r.scene.plant.time_step for r in runs.values()})
-    track = study.track_m if study.track_m is not None else scene.car.front.track_m
+    track = _track_m(study, runs)
     held = [(r["speed_min_kph"], r["speed_max_kph"], r["speed_kph"]) for r in rows]
     worst = max((max(abs(lo - v), abs(hi - v)) for lo, hi, v in held
                  if math.isfinite(lo)), default=math.nan)

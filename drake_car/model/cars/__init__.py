@@ -1,0 +1,1 @@
+"""Shipped cars given by their hard points, each module with its sources."""
