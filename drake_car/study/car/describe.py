@@ -35,20 +35,19 @@ def on_shipped_tyre(scene):
 
 
 def driven_axle(scene):
-    """The axle the drive turns: the car's (``car.driven_axle`` where the car has one), the
-    front for the paper's prescribed rotation."""
-    if isinstance(scene.drive, PrescribedRotation):
-        return "front"
+    """The axle the drive turns: the car's ``car.driven_axle`` (the paper's prescribed rotation
+    too: a rear-drive car's rear wheels)."""
     return getattr(scene.car, "driven_axle", "front")
 
 
 def drive_words(scene):
     """The drive in words, from the scene."""
+    axle = driven_axle(scene)
     if isinstance(scene.drive, PrescribedRotation):
-        return ("the paper's drive: both front wheels' rotation prescribed (a locked front "
+        return (f"the paper's drive: both {axle} wheels' rotation prescribed (a locked {axle} "
                 "axle)")
-    return (f"an open differential on the {driven_axle(scene)} axle (one drive torque split "
-            "equally between its wheels)")
+    return (f"an open differential on the {axle} axle (one drive torque split equally between "
+            "its wheels)")
 
 
 def tyre_facts(scene):
@@ -71,6 +70,7 @@ def car_facts(scene):
     f, r = car.front, car.rear
     return {
         "shipped": is_shipped_car(car) and on_shipped_tyre(scene),
+        "driven_axle": driven_axle(scene),
         "car_file": getattr(scene, "car_file", None) or None,
         "mass_kg": car.mass.total_mass_kg,
         "cog_behind_front_axle_m": whole_car_cog_to_front_m(car),

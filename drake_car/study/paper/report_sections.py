@@ -15,15 +15,17 @@ def paper_drive(s):
     locked = s.get("paper_drive")
     if not locked:
         return []
-    understeer = ("about 2.5 deg/g more understeer on this car (drake-car-handling)"
-                  if s.get("paper_car") else
-                  "more understeer (drake-car-handling measures how much on this car)")
+    axle = s["car"].get("driven_axle", "front")
+    effect = ("about 2.5 deg/g more understeer on this car (drake-car-handling)"
+              if s.get("paper_car") else
+              "a locked axle resists the turn, more understeer (drake-car-handling measures "
+              "how much on this car)")
     lines = ["## The paper's own drive, for comparison", "",
-             f"The runs above are driven by {s['car']['drive']}. The paper prescribes both "
-             f"front wheels' rotation, which locks the front axle: {understeer}, and the "
-             "launch follows the prescribed speed even beyond the tyres' grip. The same "
-             f"{len(s['runs'])} runs, the same rack input, with the paper's drive (the car "
-             "then turns less and its struts see other loads):", "",
+             f"The runs above are driven by {s['car']['drive']}. The paper prescribes the "
+             f"driven wheels' rotation (here both {axle} wheels'), which locks the {axle} "
+             f"axle: {effect}, and the launch follows the prescribed speed even beyond the "
+             f"tyres' grip. The same {len(s['runs'])} runs, the same rack input, with the "
+             "paper's drive (its struts see other loads):", "",
              "| # | the car's drive | the paper's drive | deciding number with the paper's "
              "drive |", "|---|---|---|---|"]
     words = {True: "yes", False: "no", None: "not applicable"}
