@@ -50,6 +50,14 @@ def drive_words(scene):
             "its wheels)")
 
 
+def drive_short(scene):
+    """The drive in a few words (a figure's title)."""
+    axle = driven_axle(scene)
+    if isinstance(scene.drive, PrescribedRotation):
+        return f"prescribed {axle} wheels' rotation (locked {axle} axle)"
+    return f"open differential, {axle}-driven"
+
+
 def tyre_facts(scene):
     """{"model", "file", "form", "combined_slip", "combined_note"} of the scene's tyres."""
     tyres = scene.tyres

@@ -156,8 +156,10 @@ def load_study(path, child=None, scene_text=None, scene=None) -> DesignStudy:
     if not isinstance(study.base.manoeuvre, LaneChange):
         raise SceneError(f"{path}: base: the design study's runs change lanes (the paper's "
                          "lane change, then hands off); its base scene's manoeuvre must be "
-                         f"!LaneChange, not !{type(study.base.manoeuvre).__name__} (leave the "
-                         "manoeuvre out of --scene/--scene_text, or give a !LaneChange)")
+                         f"!LaneChange, not !{type(study.base.manoeuvre).__name__} from "
+                         "--scene/--scene_text: give the car alone (a scene entry without a "
+                         "manoeuvre, or --scene_text \"{car_file: FILE, tyres: ...}\") or a "
+                         "!LaneChange")
     try:
         _check_values(study)
     except SceneError as e:

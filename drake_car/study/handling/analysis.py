@@ -9,6 +9,7 @@ import time
 
 import numpy as np
 
+from drake_car.study.car.describe import drive_short
 from drake_car.model.geometry import (
     design_axle_loads_N, steering_sign, whole_car_cog_to_front_m)
 from drake_car.model.kinematics_sweep import run_kinematics_sweep
@@ -148,7 +149,7 @@ def analyse(runs, fit_range):
         "mass_kg": car.mass.total_mass_kg, "cog_offset_m": a, "wheelbase_m": L,
         "t_steer_s": {name: handling.first_time(r.history["phase"], r.history["t"], "III")
                       for name, r in runs.items()},
-        "drive": type(ramp.scene.drive).__name__,
+        "drive": drive_short(ramp.scene),
         "steady_state": {
             "metrics": metrics, "single_track": single,
             "yaw_gain_ratio": metrics["yaw_rate_gain_per_s"] / single["yaw_rate_gain_per_s"],

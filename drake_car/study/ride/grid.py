@@ -61,7 +61,8 @@ def base_scene(scene_text=None, scene=None):
     if not isinstance(base.manoeuvre, Straight):
         raise SceneError(f"the ride study drives straight at constant speed; its base scene's "
                          f"manoeuvre must be !Straight, not !{type(base.manoeuvre).__name__} "
-                         "(leave the manoeuvre out of --scene/--scene_text)")
+                         "from --scene/--scene_text: give the car alone (a scene entry "
+                         "without a manoeuvre, or --scene_text \"{car_file: FILE, ...}\")")
     return base
 
 
