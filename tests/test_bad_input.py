@@ -19,7 +19,7 @@ from drake_car.commands import run as run_command
 from drake_car.commands import tyre as tyre_command
 
 from drake_car.commands import accuracy, calibrate, design, friction_rig, handling, paper
-from drake_car.commands import kinematics, settle
+from drake_car.commands import kinematics, settle, strut_rig
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -98,6 +98,9 @@ CASES = [
      "manoeuvre.timeline.speed_kph"),
     ("end time 1e9 s", run_command.main,
      lambda t: scene_text("simulator: {end_time_s: 1.0e9}"), "simulator.end_time_s"),
+    ("a tighter SAP tolerance", run_command.main,
+     lambda t: scene_text("simulator: {sap_tolerance_factor: 0.5}"),
+     "simulator.sap_tolerance_factor"),
     ("a word for a number", run_command.main,
      lambda t: scene_text("friction: {law: {mu_s: high}}"), "friction.law.mu_s"),
     ("unknown key", run_command.main,
@@ -183,6 +186,12 @@ CASES = [
      lambda t: RUN + ["--out", _file(t)], "is a file"),
     ("--out is a foreign folder", run_command.main,
      lambda t: RUN + ["--out", _foreign(t)], "was not written by drake_car"),
+    ("tyre command: a negative pressure (issue 30)", tyre_command.main,
+     lambda t: ["--tir", TYRE_DATA / "MagicFormula61_Parameters.tir", "--pressure_Pa", "-5"],
+     "--pressure_Pa: -5.0 must be a finite number > 0"),
+    ("strut rig: options that describe no --measured loop (issue 30)", strut_rig.main,
+     lambda t: ["--quick", "--side_force_N", "1000"],
+     "--side_force_N describes a --measured loop's test"),
     ("rig: absurd normal force", friction_rig.main,
      lambda t: ["--normal_force_N", "1e30"], "normal_force_N"),
     ("rig: explicit step above its limit", friction_rig.main,

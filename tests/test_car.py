@@ -118,7 +118,9 @@ def test_jammed_rods_do_not_return(settled):
 
 def test_normal_force_matches_reaction():
     """N of eq. (4) from the system equals N computed here from the strut joint's reaction,
-    with the overlap and the mid-point taken from the bodies' world positions."""
+    with the overlap and the mid-point taken from the bodies' world positions; the right strut's
+    in the left's reflected frame (its moment, an axial vector, with the opposite sign:
+    ``model.struts.make_strut_friction``)."""
     scene = car_scene("settle_jammed", "friction: {law: {mu_s: 0.2, mu_d: 0.15}}")
     built = build_diagram(scene)
     simulator = Simulator(built.diagram)
@@ -146,7 +148,7 @@ def test_normal_force_matches_reaction():
         moment_mid = moment_W + np.cross(X_WJc.translation() - middle, force_W)
         f_perp = force_W - force_W.dot(axis) * axis
         m_perp = moment_mid - moment_mid.dot(axis) * axis
-        expected = np.linalg.norm(m_perp / overlap + f_perp)
+        expected = np.linalg.norm(SIDES[side] * m_perp / overlap + f_perp)
         diagnostics = system.GetOutputPort("diagnostics").Eval(system.GetMyContextFromRoot(root))
         names = system.diagnostic_names()
         assert expected > 100.0, f"{side}: the strut should carry a transverse load"

@@ -242,17 +242,22 @@ def test_normal_force_forms():
             close(fc.normal_force(*f, *m, overlap, preload, 0.3,
                                   NORMAL_FORCE_FORMS.index(form), *axis),
                   normal_force(f, m, overlap, preload, 0.3, form, axis=axis), scale=1e4)
+            # A mirrored strut: the compiled step negates the moment before this call.
+            close(fc.normal_force(*f, *(-m), overlap, preload, 0.3,
+                                  NORMAL_FORCE_FORMS.index(form), *axis),
+                  normal_force(f, m, overlap, preload, 0.3, form, axis=axis, mirrored=True),
+                  scale=1e4)
 
 
 def reference_friction_step(x, reactions, initial, fast, laws, strut_laws, struts, pairs,
                             memory):
     """One step of the friction from the pure-Python law, as systems.strut_friction composed
-    it. ``struts``: (constant, initial, q, overlap, offset, axis, rod radius) per strut;
-    ``pairs``: (kind, strut, q index, v index) per pair."""
+    it. ``struts``: (constant, initial, q, overlap, offset, axis, rod radius, mirrored) per
+    strut; ``pairs``: (kind, strut, q index, v index) per pair."""
     n = len(pairs)
     creeps, phases, last_q = memory[:n], memory[n:2 * n], memory[2 * n:]
     normals = []
-    for s, (constant, first, q_index, overlap, offset, axis, _) in enumerate(struts):
+    for s, (constant, first, q_index, overlap, offset, axis, _, mirrored) in enumerate(struts):
         law = strut_laws[s]
         if constant is not None:
             normals.append(constant)
@@ -273,7 +278,8 @@ def reference_friction_step(x, reactions, initial, fast, laws, strut_laws, strut
         normals.append(normal_force(
             (fx - f_axial * ux, fy - f_axial * uy, fz - f_axial * uz),
             (mx - m_axial * ux, my - m_axial * uy, mz - m_axial * uz), d,
-            law.preload_force_N, law.mu_s, law.normal_force_form, axis=axis))
+            law.preload_force_N, law.mu_s, law.normal_force_form, axis=axis,
+            mirrored=mirrored))
     out = {k: [0.0] * n for k in ("creep", "phase", "q", "actuation", "kp", "kd", "effort")}
     out["desired"], out["diagnostics"] = [0.0] * (2 * n), []
     for i, (kind, s, q_index, v_index) in enumerate(pairs):
@@ -322,9 +328,9 @@ def test_friction_step(fast, form):
                   StrutFrictionParameters(mu_s=0.2, mu_d=0.15, normal_force_form=form),
                   StrutFrictionParameters()]
     axis = tuple(np.array([0.1, 0.2, 0.97]) / np.linalg.norm([0.1, 0.2, 0.97]))
-    struts = [(None, None, 0, (0.14, -1.0), (-0.07, 0.5), axis, 0.011),
-              (None, 900.0, 2, (0.14, -1.0), (-0.07, 0.5), axis, 0.012),
-              (1500.0, None, 0, (0, 0), (0, 0), (0, 0, 1), 0.01)]
+    struts = [(None, None, 0, (0.14, -1.0), (-0.07, 0.5), axis, 0.011, False),
+              (None, 900.0, 2, (0.14, -1.0), (-0.07, 0.5), axis, 0.012, True),
+              (1500.0, None, 0, (0, 0), (0, 0), (0, 0, 1), 0.01, False)]
     pairs = [("translation", 0, 0, 5), ("rotation", 0, 1, 6), ("translation", 1, 2, 7),
              ("rotation", 1, 3, 8), ("translation", 2, 4, 9)]
     laws = [strut_laws[s].translation() if kind == "translation" else strut_laws[s].rotation()
@@ -334,8 +340,8 @@ def test_friction_step(fast, form):
                                        rod_radius=struts[s][6])
                           for i, (kind, s, qi, vi) in enumerate(pairs)])
     strut_rows = np.array([fc.pack_strut(strut_laws[s], constant=c, initial=first, q_index=qi,
-                                         overlap=d, offset=a, axis=u)
-                           for s, (c, first, qi, d, a, u, _) in enumerate(struts)])
+                                         overlap=d, offset=a, axis=u, mirrored=m)
+                           for s, (c, first, qi, d, a, u, _, m) in enumerate(struts)])
     n = len(pairs)
     for _ in range(300):
         x = np.concatenate([RNG.uniform(-0.02, 0.02, 5),
@@ -361,6 +367,57 @@ def test_friction_step(fast, form):
             close(compiled["desired"], expected["desired"], scale=1e-2)
             close(compiled["gains"], expected["kp"] + expected["kd"] + expected["effort"],
                   scale=1e3)
+
+
+def test_friction_step_mirror_image_struts_are_exact():
+    """Two struts, the second the first's mirror image in the plane y = 0 (its axis, its
+    reaction force reflected; its moment, an axial vector, reflected and negated) and marked
+    ``mirrored``: their normal forces and their pairs' every value agree bit for bit (the
+    rotation pair's signed ones negated), in every normal-force form; not marked, the vector
+    form's differ (issue 32: what broke the car's mirror)."""
+    reflect = np.array([1.0, -1.0, 1.0])
+    axis = np.array([0.1, 0.2, 0.97]) / np.linalg.norm([0.1, 0.2, 0.97])
+    for form in ("vector", "magnitude_sum", "contact_pair"):
+        law = StrutFrictionParameters(mu_s=0.4, mu_d=0.3, normal_force_form=form)
+        for mark in (True, False):
+            pairs = np.array([
+                fc.pack_pair(law.rotation() if rot else law.translation(), law, rotation=rot,
+                             strut=s, q_index=2 * s + rot, v_index=4 + 2 * s + rot,
+                             rod_radius=0.011)
+                for s in (0, 1) for rot in (False, True)])
+            struts = np.array([
+                fc.pack_strut(law, q_index=2 * s, overlap=(0.14, -1.0), offset=(-0.07, 0.5),
+                              axis=tuple(axis * (reflect if s else 1.0)),
+                              mirrored=mark and s == 1) for s in (0, 1)])
+            for _ in range(200):
+                q, v = RNG.uniform(-0.02, 0.02, 2), RNG.uniform(-2e-4, 2e-4, 2)
+                # Translation: the same on both sides; rotation (an angle about a reflected
+                # axis): negated.
+                x = np.array([q[0], q[1], q[0], -q[1], v[0], v[1], v[0], -v[1]])
+                moment, force = RNG.uniform(-300, 300, 3), RNG.uniform(-3000, 3000, 3)
+                reactions = np.array([np.concatenate([moment, force]),
+                                      np.concatenate([-reflect * moment, reflect * force])])
+                creep = RNG.uniform(-5e-6, 5e-6, 2)
+                memory = np.concatenate([[creep[0], creep[1], creep[0], -creep[1]],
+                                         [STATIC] * 4, x[:4] - 1e-6 * np.array([1, 1, 1, -1])])
+                out = {"memory": memory, "actuation": np.zeros(4),
+                       "diagnostics": np.zeros(32), "desired": np.zeros(8),
+                       "gains": np.zeros(12)}
+                fc.friction_step(x, reactions, False, True, pairs, struts, out["memory"],
+                                 out["actuation"], out["diagnostics"], out["desired"],
+                                 out["gains"])
+                d = out["diagnostics"].reshape(4, 8)
+                if not mark:
+                    if form == "vector" and d[0, 6] != d[2, 6]:
+                        break
+                    continue
+                odd = np.array([-1.0, -1.0, 1.0, 1.0, -1.0, 1.0, 1.0, -1.0])  # v, creep, μ, F
+                assert np.array_equal(d[2], d[0]), (form, "translation", d[0], d[2])
+                assert np.array_equal(d[3], odd * d[1]), (form, "rotation", d[1], d[3])
+                g = out["gains"].reshape(3, 4)
+                assert np.array_equal(g[:, 2], g[:, 0]) and np.array_equal(g[:, 3], g[:, 1])
+            else:
+                assert mark or form != "vector", "the unmarked vector form should differ"
 
 
 def test_friction_step_names_a_strut_out_of_its_guide():

@@ -8,7 +8,7 @@ from numpy.testing import assert_allclose
 
 from drake_car.law.checks import ParameterError
 from drake_car.law.friction.frd import (
-    KINETIC, STATIC, FrictionPairLaw, StrutFrictionParameters,
+    KINETIC, NORMAL_FORCE_FORMS, STATIC, FrictionPairLaw, StrutFrictionParameters,
     advance_creep, beta, friction_coefficient, friction_moment, mu1, mu_kinetic, normal_force,
     shape, shape_max_slope, shape_slope)
 
@@ -116,6 +116,32 @@ def test_contact_pair_normal_force():
     moment = np.cross(d / 2 * axis, f1) + np.cross(-d / 2 * axis, f2)
     assert_allclose(normal_force(force, moment, d, 0.0, 0.2, "contact_pair", axis=axis),
                     np.linalg.norm(f1) + np.linalg.norm(f2), rtol=1e-12)
+
+
+def test_normal_force_of_a_mirror_image():
+    """Eq. (4) of a strut's mirror image (in the plane y = 0: force and axis reflected, the
+    moment, an axial vector, reflected and negated), evaluated ``mirrored``, equals the
+    strut's own bit for bit in every form. The vector form unmirrored does not (it adds an
+    axial vector to a polar one): |F - M/d| instead of |F + M/d|; the other two forms do not
+    depend on ``mirrored`` at all."""
+    reflect = np.array([1.0, -1.0, 1.0])
+    rng = np.random.default_rng(3)
+    for form in NORMAL_FORCE_FORMS:
+        for _ in range(200):
+            f, m = rng.uniform(-3000, 3000, 3), rng.uniform(-300, 300, 3)
+            u = rng.uniform(-1, 1, 3)
+            u /= np.linalg.norm(u)
+            d, preload = rng.uniform(0.05, 0.2), rng.choice([0.0, 50.0])
+            own = normal_force(f, m, d, preload, 0.2, form, axis=u)
+            image = normal_force(reflect * f, -reflect * m, d, preload, 0.2, form,
+                                 axis=reflect * u, mirrored=True)
+            assert image == own, (form, image, own)
+            if form == "vector":
+                assert_allclose(normal_force(reflect * f, -reflect * m, d, preload, 0.2, form),
+                                np.linalg.norm(f - m / d) + preload / 0.2 * (preload > 0),
+                                rtol=1e-12)
+            else:
+                assert normal_force(f, m, d, preload, 0.2, form, axis=u, mirrored=True) == own
 
 
 def test_normal_force_forms_and_moment():

@@ -111,7 +111,8 @@ def test_tir_round_trip(tmp_path):
     ("[SHAPE]\n{radial width}\n1.0 0.0\n1.0 wide\n", r"copy.tir:4: cannot read line .*\[SHAPE\]"),
     ("[UNITS]\nLENGTH = 'furlong'\n", r"copy.tir:2: \[UNITS\] LENGTH = 'furlong' is not a unit"),
     ("[MODEL]\nNAME = 'open\n", r"copy.tir:2: unterminated string"),
-    ("[MODEL]\nLONGVL = nan\n", r"copy.tir:2: LONGVL = 'nan' is not finite"),
+    ("[MODEL]\nLONGVL = nan\n", r"copy.tir:2: LONGVL = 'nan' is not a number"),
+    ("[MODEL]\nLONGVL = 1e999\n", r"copy.tir:2: LONGVL = '1e999' is not finite"),
 ])
 def test_malformed_tir_names_the_line(tmp_path, text, match):
     path = tmp_path / "copy.tir"
@@ -134,7 +135,7 @@ def test_tir_missing_coefficient_and_file(tmp_path):
 
 def test_comments_and_strings_parse():
     tir = parse_tir("$ header\n[MODEL]\nNAME = 'a $ b' ! note\nLONGVL = 16.7 $ m/s\n"
-                    "EMPTY =\n[UNITS]\nMASS = 'kg'\nLENGTH='mm'\n[INERTIA]\nMASS = 9.0\n"
+                    "[UNITS]\nMASS = 'kg'\nLENGTH='mm'\n[INERTIA]\nMASS = 9.0\n"
                     "[DIMENSION]\nUNLOADED_RADIUS = 313.0\n")
     assert tir.coefficients() == {"NAME": "a $ b", "LONGVL": 16.7 * 1e-3, "MASS": 9.0,
                                   "UNLOADED_RADIUS": 0.313}

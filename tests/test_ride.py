@@ -79,7 +79,7 @@ def test_grid_scenes_share_the_road_and_differ_in_the_step():
     assert_allclose(np.asarray(c.road.z_m), 2 * np.asarray(coarse.road.z_m))  # one shape
 
 
-@pytest.mark.parametrize("args, names", [(["--classes", "F"], "road_class"),
+@pytest.mark.parametrize("args, names", [(["--classes", "F"], "--classes"),
                                          (["--strut", "oily"], "--strut"),
                                          (["--speeds", "fast"], "--speeds")])
 def test_bad_input_is_one_line_and_status_2(tmp_path, args, names):

@@ -83,6 +83,7 @@ OVERRIDES = {
     "tyres no relaxation": "tyres: !MagicFormula {slip: {relaxation: false}}",
     "time step": "plant: {time_step: 0.0005}",
     "sap pacer off": "simulator: {sap_pacer: false}",
+    "sap tolerance loosened": "simulator: {sap_tolerance_factor: 2.0}",
     "start at design": "simulator: {start: design}",
     "ball-joint offset b": "car: {front: {ball_joint_offset_b_m: 0.06}}",
     "friction law": "friction: {law: {mu_s: 0.3}}",

@@ -15,7 +15,7 @@ from drake_car.sim.rigs.strut import (
     StrutRigOptions, corner_side_force_N, eq4_normal_force_N, rest_normal_force_N,
     simulate_strut_rig)
 from drake_car.study.rig.analysis import loop_statistics
-from drake_car.study.rig.loops import SYNTHETIC_LAW, synthetic_fit
+from drake_car.study.rig.loops import SYNTHETIC_LAW, SYNTHETIC_NOISE, synthetic_fit
 
 CAR = CarParameters()
 
@@ -145,6 +145,9 @@ def test_fit_recovers_mu_s_of_a_synthetic_loop():
     assert abs(fit.mu_d - SYNTHETIC_LAW[1]) <= fit.mu_d_ci95 + inertia, (fit, inertia)
     assert fit.mu_s_ci95 < 0.05, fit  # the confidence says something
     assert not fit.dv_resolved  # 2 µm at 1 kHz resolves 3 mm/s, not Δv = 0.1 mm/s
+    # The law describes its own loop: the residual is the noise put in (issue 30's check).
+    assert fit.confident and fit.noise_N == pytest.approx(SYNTHETIC_NOISE["force_N"],
+                                                          rel=0.15), fit
 
 
 @pytest.mark.slow

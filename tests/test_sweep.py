@@ -180,7 +180,6 @@ def test_the_command_restarts_with_only_the_missing_runs_on_loopback(tmp_path, m
         raise AssertionError("nothing is left to do: no cluster may be started")
     monkeypatch.setattr(study_sweep, "dask_client", no_cluster)
     monkeypatch.setattr(study_sweep, "local_cluster", no_cluster)
-    monkeypatch.setattr(sweep_command, "dask_client", no_cluster)
     sweep_command.main(argv)  # nothing left to do: no cluster at all
     assert len(index(out)) == 3
 

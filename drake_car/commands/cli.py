@@ -16,6 +16,7 @@ loggers up when it parses, writing through tqdm so that messages do not break a 
 import argparse
 import contextlib
 import logging
+import os
 import sys
 from pathlib import Path
 
@@ -188,7 +189,14 @@ def _checked(name, valid, requirement):
 
 def describe(error):
     """One line for an error of the one error path: an OSError names its file and its reason
-    (``/x/y: No space left on device``), any other its message."""
+    (``/x/y: No space left on device``; the working folder removed under the command, whose
+    error names no file, as such), any other its message."""
+    if isinstance(error, FileNotFoundError) and error.filename is None:
+        try:
+            os.getcwd()
+        except FileNotFoundError:
+            return ("the current folder no longer exists (removed while the command ran?); "
+                    "change to one that does")
     if isinstance(error, OSError) and error.strerror:
         where = error.filename if error.filename is not None else ""
         also = f" -> {error.filename2}" if error.filename2 is not None else ""

@@ -15,19 +15,22 @@ say which (study.paper.sets). Writes into DIR:
 
   outcomes.csv            one row per run (or mirror pair) and outcome: run, outcome, value,
                           error, unit, step_s, converged, tolerance, observed_order,
-                          steps_tried_s, values_by_step, run_wall_s; the report, summary.json
-                          and load_split.png read it
+                          steps_tried_s, values_by_step, run_wall_s, solver_error, limited_by;
+                          the report, summary.json and load_split.png read it
 
 Accuracy on demand (skip it with --no_verify): every run is repeated at dt/2 and dt/4, and the
 runs whose deciding outcomes have not converged within their tolerances
 (``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
 a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
-(``sweep.refine``). Every error is a run's own difference between steps; a claim is decided
-only where its margin exceeds it, else the report says "undecided at the finest step tried".
-Each round of runs goes as one sweep (``sweep.runner.run_scenes``: in parallel on one
-cluster for the whole job, a progress bar over the runs on a terminal): the first round is the
-runs, their dt/2 and dt/4 repetitions and the same runs with the paper's drive. Options and
-scenes: --scene_text is laid over every run's scene (e.g.
+(``sweep.refine``). Every error is a run's own difference between steps plus the solver's: a
+last round runs each run at its finest step with SAP's tolerance loosened twice
+(``systems.sap_ballast``; --no_solver_axis leaves it out); a claim is decided only where its
+margin exceeds it, else the report says "undecided at the finest step tried". Each round of
+runs goes as one sweep
+(``sweep.runner.run_scenes``: in parallel on one cluster for the whole job, a progress bar over
+the runs on a terminal): the first round is the runs, their dt/2 and dt/4 repetitions and the
+same runs with the paper's drive. Options and scenes: --scene_text is laid over every run's
+scene (e.g.
 "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
 added to one run's scene (so its saved scene says so).
 
@@ -43,8 +46,8 @@ from drake_car.commands import cli
 from drake_car.data import resource
 from drake_car.scene.load import load_scene_file
 from drake_car.scene.scene import MeshcatReplay, NoVisualization, PrescribedRotation
-from drake_car.results.diagram import write_diagram_overview_svg, write_diagram_svg
-from drake_car.results.files import write_csv, write_json, write_run
+from drake_car.results.files import (
+    write_csv, write_diagram_overview_svg, write_diagram_svg, write_json, write_run)
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
 from drake_car.study.paper.figures import all_figures
@@ -54,7 +57,7 @@ from drake_car.study.paper.outcomes import (
     DRIVES, at_one_step, outcomes_of_runs, read_outcomes, study_outcomes, tolerances,
     write_outcomes)
 from drake_car.study.paper.report import report, summary
-from drake_car.sweep.refine import halved, refine
+from drake_car.sweep.refine import halved, loosened, refine
 from drake_car.sweep.runner import run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
@@ -78,6 +81,9 @@ def main(argv=None):
                         "key (scene, files read, code): a rerun reuses them (default: in "
                         "memory only)")
     p.add_argument("--no_html", action="store_true", help="no Meshcat replay")
+    p.add_argument("--no_solver_axis", action="store_true",
+                   help="no solver twins: the error budget without SAP's tolerance (saves a "
+                        "run of each run at its finest step)")
     p.add_argument("--no_paper_drive", action="store_true",
                    help="skip the comparison with the paper's own drive (both front wheels' "
                         "rotation prescribed: a locked front axle)")
@@ -117,7 +123,8 @@ def main(argv=None):
                 refined = refine(scenes, outcomes_of_runs(roles, timeline), tolerances(),
                                  simulate, finest_step_s=args.finest_step_s,
                                  budget_s=args.budget_s, drives=DRIVES, first_extra=locked,
-                                 halve=_unseen_halved)
+                                 halve=_unseen_halved,
+                                 solver_twin=None if args.no_solver_axis else _unseen_loosened)
                 runs = refined.runs[0]
                 locked_runs = {name: refined.runs["extra"][name + PAPER_DRIVE]
                                for name in scenes if locked}
@@ -167,6 +174,11 @@ def main(argv=None):
 def _unseen_halved(scene, halvings):
     """A refinement's run: the scene at a finer step, without a replay."""
     return halved(dataclasses.replace(scene, visualization=NoVisualization()), halvings)
+
+
+def _unseen_loosened(scene):
+    """A solver twin: the scene with SAP's tolerance loosened twice, without a replay."""
+    return loosened(dataclasses.replace(scene, visualization=NoVisualization()))
 
 
 def _cpu_s():

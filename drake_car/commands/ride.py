@@ -23,7 +23,7 @@ import time
 
 from drake_car.commands import cli
 from drake_car.law.checks import ParameterError
-from drake_car.results.files import read_csv
+from drake_car.results.files import files_into, read_csv
 from drake_car.scene.load import parse_scene_option
 from drake_car.study.ride.analysis import collect
 from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
@@ -32,6 +32,9 @@ from drake_car.sweep.runner import run_sweep
 from drake_car.results.folder import OutputError
 from drake_car.sweep.store import (
     check_sweep_folder, damage, key_parts, read_status, run_key)
+
+
+OPTIONS = {"classes": "--classes", "speeds_kph": "--speeds"}  # RideStudy's fields
 
 
 @dataclasses.dataclass
@@ -72,6 +75,10 @@ def main(argv=None):
     if any(s not in STRUTS for s in struts):
         raise ParameterError("--strut", args.strut, f"must be one of {', '.join(STRUTS)}, both")
     studies = [RideStudy(classes=classes, speeds_kph=speeds, strut=s) for s in struts]
+    try:  # the options, before any work (the road's length is derived from the speeds)
+        studies[0].check()
+    except ParameterError as e:
+        raise ParameterError(OPTIONS.get(e.key, e.key), e.value, e.requirement) from None
     scenes = {}
     scene = parse_scene_option(args.scene) if args.scene else None
     for study in studies:
@@ -88,7 +95,8 @@ def main(argv=None):
     if not rows:
         raise ParameterError("--out", str(args.out), "holds no finished run with its "
                              "half-step twin (run without --no_run first)")
-    write_outputs(args.out, rows, runs, studies[0], time.perf_counter() - began)
+    with files_into(args.out) as out:  # each file whole
+        write_outputs(out, rows, runs, studies[0], time.perf_counter() - began)
     print(f"wrote {args.out / 'report.md'} ({len(rows)} runs with their twins)")
 
 

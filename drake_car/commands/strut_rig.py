@@ -16,42 +16,33 @@ into DIR:
   synthetic.csv, fit.json
                    the synthetic measured loop (the rig with the scene's law, else μs 0.3,
                    μd 0.22, at the car's side load at rest, plus noise) and the fit to it
-  measured_fit.json  with --measured CSV (columns stroke_m, force_N, one row per sample at
-                   --sample_period_s; the test's --side_force_N, --amplitude_m, --frequency_hz)
+  measured_fit.json  with --measured CSV (columns stroke_m in m, force_N in N, optionally
+                   t_s; one row per sample) and the test's --side_force_N: the fit, whether
+                   it is a confident value, the test's options
+
+A measured loop is checked against the rig it claims to come from before it is fitted
+(study/rig/measured.py): a stroke beyond the strut's travel (a stroke in mm), a force beyond
+what μ <= 2 allows at the side load, a force of the opposite sign, an amplitude or frequency
+other than --amplitude_m and --frequency_hz (taken from the loop when left out) or a time
+base other than --sample_period_s are refused, one line naming the file and the option. A fit
+whose residual is far above the loop's own noise (the law does not describe the loop) is
+flagged on stderr and in measured_fit.json, never printed as a confident value.
 
 Example:  drake-car-strut-rig --out results/strut_rig
           drake-car-strut-rig --out results/my_strut --scene my_car.yaml:settle
-          drake-car-strut-rig --out results/fit --measured loop.csv \\
-              --side_force_N 1500 --amplitude_m 0.01 --frequency_hz 1 --sample_period_s 0.001
+          drake-car-strut-rig --out results/fit --measured loop.csv --side_force_N 1500 \\
+              --sample_period_s 0.001
 """
 
-import csv
 import time
 
-import numpy as np
-
 from drake_car.commands import cli
-from drake_car.law.checks import ParameterError
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
-from drake_car.sim.rigs.strut import StrutRigOptions
-from drake_car.study.rig.analysis import LoopError
 from drake_car.study.rig.figures import plot_loops, plot_side_load
-from drake_car.study.rig.fit import fit_measured_loop
+from drake_car.study.rig.fit import fit_loop_file
 from drake_car.study.rig.loops import SYNTHETIC_NOISE, rig_study
-
-
-def read_loop(path):
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-        stroke = np.array([float(r["stroke_m"]) for r in rows])
-        force = np.array([float(r["force_N"]) for r in rows])
-    except (OSError, KeyError, ValueError, TypeError) as e:
-        raise ParameterError("--measured", str(path),
-                             f"must be a CSV with columns stroke_m, force_N ({e})") from None
-    return stroke, force
 
 
 def main(argv=None):
@@ -60,30 +51,33 @@ def main(argv=None):
                               "(default: the shipped car)")
     p.add_argument("--quick", action="store_true", help="three side loads, no variants")
     p.add_argument("--measured", default=None, help="a measured loop to fit (CSV)")
-    p.add_argument("--side_force_N", type=cli.positive("side_force_N"), default=1000.0)
-    p.add_argument("--amplitude_m", type=cli.positive("amplitude_m"), default=0.01)
-    p.add_argument("--frequency_hz", type=cli.positive("frequency_hz"), default=1.0)
-    p.add_argument("--sample_period_s", type=cli.positive("sample_period_s"), default=1e-3)
+    p.add_argument("--side_force_N", type=cli.positive("side_force_N"), default=None,
+                   help="the measured test's side load (N); required with --measured")
+    p.add_argument("--amplitude_m", type=cli.positive("amplitude_m"), default=None,
+                   help="the test's stroke amplitude (default: the loop's; given: checked "
+                        "against it)")
+    p.add_argument("--frequency_hz", type=cli.positive("frequency_hz"), default=None,
+                   help="the test's stroke frequency (default: the loop's; given: checked)")
+    p.add_argument("--sample_period_s", type=cli.positive("sample_period_s"), default=None,
+                   help="the time between the loop's samples (default: its t_s column's; "
+                        "required without one)")
     args = p.parse_args(argv)
+    loop_options = ("side_force_N", "amplitude_m", "frequency_hz", "sample_period_s")
+    if not args.measured and any(getattr(args, name) is not None for name in loop_options):
+        p.error(f"--{next(n for n in loop_options if getattr(args, n) is not None)} describes "
+                "a --measured loop's test; without --measured the rig study runs its own")
     cli.check_out(args)
     scene = cli.scene_from_args(args)
     car = scene.car
     start, cpu = time.time(), time.process_time()
     if args.measured:
-        stroke, force = read_loop(args.measured)
-        options = StrutRigOptions(side_force_N=args.side_force_N,
-                                  stroke_amplitude_m=args.amplitude_m,
-                                  stroke_frequency_hz=args.frequency_hz).check(car.front)
-        try:
-            fit = fit_measured_loop(car, options, stroke, force,
-                                    sample_period_s=args.sample_period_s)
-        except LoopError as e:
-            raise ParameterError("--measured", args.measured, str(e)) from None
+        fit, options, notes = fit_loop_file(
+            car, args.measured, side_force_N=args.side_force_N, amplitude_m=args.amplitude_m,
+            frequency_hz=args.frequency_hz, sample_period_s=args.sample_period_s)
         with output_folder(args.out) as out:
-            write_json(out / "measured_fit.json", provenance(fit=fit.summary(),
-                                                             options=vars(options)))
-        print(f"μs = {fit.mu_s:.4f} ± {fit.mu_s_ci95:.4f}, μd = {fit.mu_d:.4f} ± "
-              f"{fit.mu_d_ci95:.4f} (95 %)")
+            write_json(out / "measured_fit.json", provenance(
+                fit=fit.summary(), options=vars(options), taken_from_the_loop=notes))
+        print(fit.line())
         return
     study = rig_study(scene, quick=args.quick)
     options, h, stroke, force, fit = study.synthetic

@@ -21,8 +21,10 @@ to a running Dask cluster (its workers must be able to import drake_car: an inst
 or PYTHONPATH). Run the same command again to finish a killed sweep: the runs already in DIR
 are kept and only the missing ones run, and those that Dask or the disk lost (a killed worker,
 files not written; --rerun_failed: every failed one); unlike other commands' --out, a sweep's
-folder is added to, never replaced (delete it to start afresh). A run that fails is recorded
-and the others go on; the exit status is then 1.
+folder is added to, never replaced (delete it to start afresh; a new folder that ends in an
+error before any run finished is removed again). A run that fails is recorded and the others
+go on; the exit status is then 1. An OS error (a full disk) stops the sweep: one line on
+stderr, exit status 2, the runs finished kept whole.
 
   drake-car-sweep --scene scenes/paper_study.yaml --out results/sweep \\
       --scene_text "simulator: {end_time_s: 3.0}" --grid friction.law.mu_s=0.2,0.3,0.4
@@ -42,7 +44,7 @@ from drake_car.scene.load import SceneError
 from drake_car.scene.scene import MeshcatLive
 from drake_car.sweep.runner import jobs_of, missing, run_sweep
 from drake_car.sweep.scene_grid import GRID_MAX_SCENES, build_scenes
-from drake_car.sweep.store import check_sweep_folder, read_sweep_log
+from drake_car.sweep.store import check_sweep_folder, read_sweep_log, sweep_output
 
 GRID_FORM = "KEY=V1,V2,... (KEY a dotted scene key, e.g. friction.law.mu_s=0.1,0.2)"
 
@@ -74,6 +76,8 @@ def main(argv=None):
     print(f"{len(scenes)} scenes: {len(todo)} runs to do", file=sys.stderr)
     began = time.perf_counter()
     with contextlib.ExitStack() as stack:
+        # an OS error on DIR is one line; a new DIR that gets no run is removed again
+        stack.enter_context(sweep_output(args.out))
         # SIGTERM: cancel what is left, close the cluster, rebuild the index, as on Ctrl-C
         stack.enter_context(terminate_as_exit(once=True))
         client = None
@@ -91,10 +95,10 @@ def main(argv=None):
         log = _log_invocation(args.out, entry)
         summary = run_sweep(scenes, args.out, client=client, progress=not args.quiet,
                             rerun_failed=args.rerun_failed, jobs=jobs)
-    wall = time.perf_counter() - began
-    entry["scenes"] = summary["hashes"]
-    entry["summary"] = {k: summary[k] for k in ("ok", "failed", "reused")} | {"wall_s": wall}
-    write_json(args.out / "sweep.json", log)
+        wall = time.perf_counter() - began
+        entry["scenes"] = summary["hashes"]
+        entry["summary"] = {k: summary[k] for k in ("ok", "failed", "reused")} | {"wall_s": wall}
+        write_json(args.out / "sweep.json", log)
     failed = sorted(k for k, s in summary["status"].items() if s == "failed")
     print(f"{len(summary['status'])} runs: {summary['ok']} done now, {summary['reused']} "
           f"reused, {len(failed)} failed, in {wall:.1f} s; wrote {args.out} (index: "

@@ -29,7 +29,7 @@ def main(argv=None):
     p = cli.parser(__doc__, name="tyre")
     p.add_argument("--tir", required=True,
                    help="tyre property file: a path, or a name in the package's urdf/ data")
-    p.add_argument("--pressure_Pa", type=float, default=None,
+    p.add_argument("--pressure_Pa", type=cli.positive("pressure_Pa"), default=None,
                    help="inflation pressure (MF 6.x files; default the file's INFLPRES)")
     args = p.parse_args(argv)
     tyre = MagicFormulaTyre.from_file(tir_path(args.tir), pressure_Pa=args.pressure_Pa)

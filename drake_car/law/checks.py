@@ -87,6 +87,8 @@ def excerpt(value):
     """``repr(value)`` cut to a bounded excerpt (``reprlib``): what an error message quotes
     of a value that came from outside (a huge list or string stays a line)."""
     global _EXCERPT
+    if type(value).__module__ == "numpy" and getattr(value, "ndim", None) == 0:
+        value = value.item()  # a numpy scalar is its number (not ``np.float64(2.11)``)
     if _EXCERPT is None:
         import reprlib
         _EXCERPT = reprlib.Repr()

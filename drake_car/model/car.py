@@ -16,6 +16,7 @@ from drake_car.model.kinematics import LOOP_CLOSURES, SuspensionKinematics
 from drake_car.model.loading import ModelSource, frame_point, load_car
 from drake_car.model.parameters import GRAVITY_MPS2, CarParameters
 from drake_car.model.sdformat import generate_sdformat
+from drake_car.systems.sap_ballast import sap_momentum_scale
 
 # Steering servo on the rack: SAP's implicit PD, standing for the steering column held by the
 # driver. 1e7 N/m keeps the rack within ~0.05 mm of its command under the ~500 N tie-rod loads
@@ -179,3 +180,30 @@ def loop_closure_error(car: CarModel, plant_context):
                 np.zeros(3), world)
             worst = max(worst, float(np.linalg.norm(pa - pb)))
     return worst
+
+
+def forward_speed_index(car: CarModel):
+    """The entry of the plant's state [q; v] holding the chassis' velocity along world x (its
+    floating joint's translational velocity, in the world frame): the car's speed when it
+    drives straight along x."""
+    plant, chassis = car.plant, car.body("chassis")
+    if chassis.index() not in plant.GetFloatingBaseBodies():
+        raise ValueError("forward_speed_index: the chassis is not a floating body")
+    # A floating body's velocities: [ω_WB; v_WB], both in the world frame.
+    return plant.num_positions() + chassis.floating_velocities_start_in_v() + 3
+
+
+def rolling_momentum_scale(car: CarModel):
+    """SAP's momentum scale (``systems.sap_ballast.sap_momentum_scale``) of the car rolling
+    straight ahead at 1 m/s in its design position, the wheels spinning at 1/R (√kg): the
+    car's ‖p̃‖ per unit speed (38.6 √kg for the default car: 643 √J at 60 km/h)."""
+    plant = car.plant
+    context = plant.CreateDefaultContext()
+    v = np.zeros(plant.num_velocities())
+    v[forward_speed_index(car) - plant.num_positions()] = 1.0
+    spin = 1.0 / car.params.tyre.unloaded_radius_m
+    for axle, side in (("front", "left"), ("front", "right"), ("rear", "left"),
+                       ("rear", "right")):
+        v[car.joint(f"wheel_{axle}_{side}_spin").velocity_start()] = spin
+    plant.SetVelocities(context, v)
+    return sap_momentum_scale(plant, context)

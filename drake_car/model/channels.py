@@ -69,14 +69,15 @@ class CarChannels(LeafSystem):
     steering: no power assistance, the column's friction and the wheel's inertia not
     included). ``struts``: overlap d = l - s of the left and right strut (m) and the
     rod's rotation in its cylinder (rad). ``energy``: the plant's kinetic energy and the
-    potential energy of gravity and the coil springs (J), the SAP pacer's body left out.
+    potential energy of gravity and the coil springs (J), the SAP helpers' bodies
+    (``helper_instances``: the pacer, the ballast; decoupled from the car) left out.
     ``top_mounts``: the compliant mounts' deflections (m). ``ride``: the world-vertical
     acceleration of the body point ``SEAT_POINT_M`` (m/s², gravity not included: a = a_o +
     α × r + ω × (ω × r)), and the body's angular acceleration about its own x (roll) and y
     (pitch) axes (rad/s²).
     """
 
-    def __init__(self, plant, car, groups, *, pacer_instance=None):
+    def __init__(self, plant, car, groups, *, helper_instances=()):
         super().__init__()
         unknown = [g for g in groups if g not in CAR_CHANNELS]
         if unknown:
@@ -100,7 +101,11 @@ class CarChannels(LeafSystem):
         if "top_mounts" in groups:
             self._mounts = [car.joint(f"top_mount_{a}_{s}").position_start()
                             for s in SIDES for a in "xyz"]
-        self._pacer = pacer_instance
+        # The helpers' velocities, zeroed for the energies (their blocks of M are their own).
+        self._helper_v = [plant.num_positions() + plant.get_joint(j).velocity_start() + k
+                          for instance in helper_instances
+                          for j in plant.GetJointIndices(instance)
+                          for k in range(plant.get_joint(j).num_velocities())]
         self._plant_context = None
         self._poses = self.DeclareAbstractInputPort("body_poses", Value[list[RigidTransform]]())
         self._velocities = self.DeclareAbstractInputPort(
@@ -169,14 +174,10 @@ class CarChannels(LeafSystem):
         if self._plant_context is None:
             self._plant_context = plant.CreateDefaultContext()
         pc = self._plant_context
-        x = self._state.Eval(context)
+        x = np.array(self._state.Eval(context))
+        x[self._helper_v] = 0.0
         plant.SetPositionsAndVelocities(pc, x)
-        kinetic = plant.EvalKineticEnergy(pc)
-        if self._pacer is not None:
-            v = plant.GetVelocities(pc, self._pacer)
-            kinetic -= 0.5 * sum(plant.GetBodyByName("sap_pacer").default_mass() * w * w
-                                 for w in v)
-        output.SetFromVector([kinetic, plant.EvalPotentialEnergy(pc)])
+        output.SetFromVector([plant.EvalKineticEnergy(pc), plant.EvalPotentialEnergy(pc)])
 
     def _calc_top_mounts(self, context, output):
         x = self._state.Eval(context)

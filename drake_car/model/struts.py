@@ -38,21 +38,33 @@ def declare_strut_friction(plant, car, *, rotation, scheme):
     return declarations
 
 
-def strut_geometry(front):
-    """A front strut's geometry as ``friction_pairs.Strut`` takes it: the prismatic joint's
-    child is the cylinder (the knuckle), its frame Jc at the guide, q the rod's extension s:
-    the overlap is d = l - s, and the overlap's middle lies d/2 beyond Jc along the joint axis
-    (a(q) = -l/2 + q/2 along the axis); the rod's radius r."""
+def strut_geometry(front, side="left"):
+    """The ``side`` front strut's geometry as ``friction_pairs.Strut`` takes it: the prismatic
+    joint's child is the cylinder (the knuckle), its frame Jc at the guide, q the rod's
+    extension s: the overlap is d = l - s, and the overlap's middle lies d/2 beyond Jc along the
+    joint axis (a(q) = -l/2 + q/2 along the axis); the rod's radius r; the right strut
+    ``mirrored`` (the left's mirror image: eq. 4 in the left's reflected frame,
+    ``make_strut_friction``)."""
     length = front.guide_length_l_m
     return {"overlap_m": (length, -1.0), "moment_arm_offset_m": (-0.5 * length, 0.5),
-            "rod_radius_m": front.rod_radius_r_m}
+            "rod_radius_m": front.rod_radius_r_m, "mirrored": SIDES[side] < 0}
 
 
 def make_strut_friction(plant, car, declarations, law: StrutFrictionParameters, *, scheme,
                         extra_struts=()):
     """One StrutFriction for both front struts (and ``extra_struts`` after them: a hands-off
-    column's pair), each of ``strut_geometry``."""
-    geometry = strut_geometry(car.params.front)
-    struts = [Strut(pairs, side, **geometry)
+    column's pair), each of ``strut_geometry``.
+
+    The right strut is the left's mirror image (``mirrored``): eq. (4)'s vector form adds the
+    reaction's force (a polar vector) to its moment (an axial vector), so in one frame for both
+    struts it gives the left |M/d + F| and the right, in the left's terms, |F - M/d|. That broke
+    the mirror of the whole car (issue 32): driving straight from a symmetric state, the
+    struts' normal forces differed by 0.23 N of 1414 N at the first step, the rotation pairs
+    then changed phase at different steps, and a_3's rods were 64 µm apart in the launch; case
+    b of set 3 ended 3.5 mm away from case a mirrored. The left strut is the reference (its
+    numbers are those of one frame, as before). What is left at 1 ms is the scheme's, not the
+    car's: in the launch the rotation pairs reach the Stribeck band, where the fast scheme's
+    lagged effort limit amplifies round-off about 30-fold per step (tests/test_mirror.py)."""
+    struts = [Strut(pairs, side, **strut_geometry(car.params.front, side))
               for side, pairs in declarations.items()] + list(extra_struts)
     return StrutFriction(plant, struts, law, scheme=scheme, name="strut_friction")

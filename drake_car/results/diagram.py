@@ -1,24 +1,21 @@
-"""The Diagram's pictures: Drake's Graphviz drawing as SVG (``write_diagram_svg``) and a
-readable overview of it (``diagram_overview_dot``)."""
+"""The Diagram's pictures: Drake's Graphviz drawing as SVG (``diagram_svg``; written by
+``results.files.write_diagram_svg``) and a readable overview of it (``diagram_overview_dot``)."""
 
 import errno
 import shutil
 import subprocess
-from pathlib import Path
 
 
-def write_diagram_svg(dot_text, path):
-    """Draws Graphviz ``dot_text`` as SVG (and keeps the .dot beside it)."""
+def diagram_svg(dot_text):
+    """Graphviz ``dot_text`` drawn as SVG text."""
     dot = shutil.which("dot")
     if dot is None:
         # The machine lacks a program: an OS error, one line through the commands' error path.
         raise FileNotFoundError(errno.ENOENT, "Graphviz's program is not installed; run "
                                 "tools/setup.sh (or install the 'graphviz' package) to draw "
                                 "the diagram", "dot")
-    svg = subprocess.run([dot, "-Tsvg"], input=dot_text, capture_output=True, text=True,
-                         check=True, timeout=120).stdout
-    Path(path).write_text(svg)
-    Path(path).with_suffix(".dot").write_text(dot_text)
+    return subprocess.run([dot, "-Tsvg"], input=dot_text, capture_output=True, text=True,
+                          check=True, timeout=120).stdout
 
 
 # -- the Diagram at a glance ------------------------------------------------------------------
@@ -119,8 +116,3 @@ def diagram_overview_dot(dot_text, title="The Diagram at a glance"):
         lines.append(f"{tail} -> {head}{style};")
     return "\n".join(lines + ["}"]) + "\n"
 
-
-def write_diagram_overview_svg(dot_text, path):
-    """``diagram_overview_dot`` of Drake's Graphviz text, drawn as SVG."""
-    write_diagram_svg(diagram_overview_dot(dot_text), path)
-    Path(path).with_suffix(".dot").unlink(missing_ok=True)

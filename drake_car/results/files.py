@@ -2,29 +2,61 @@
 renamed over it, so a reader never sees half a file), JSON made from numpy values, lossless
 CSV (floats in their shortest exact form), and a run's own files (``write_run``)."""
 
+import contextlib
 import csv
 import io
 import json
 import math
 import os
+import shutil
 import uuid
 from pathlib import Path
 
 import numpy as np
 
-from drake_car.results.diagram import write_diagram_svg
+from drake_car.results.diagram import diagram_overview_dot, diagram_svg
 from drake_car.results.provenance import provenance
 
 
 def write_text(path, text):
-    """Writes ``text`` to ``path`` atomically (a temporary file beside it, then renamed)."""
+    """Writes ``text`` to ``path`` atomically (a temporary file beside it, then renamed); an
+    OSError names ``path`` (a full disk's, raised by the write, names no file)."""
     path = Path(path)
     tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
     try:
-        tmp.write_text(text)
-        os.replace(tmp, path)
+        with named(path):
+            tmp.write_text(text)
+            os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+@contextlib.contextmanager
+def named(path):
+    """An OSError that names no file (a write's or a close's: a full disk) names ``path``."""
+    try:
+        yield
+    except OSError as e:
+        if e.filename is not None:
+            raise
+        raise type(e)(e.errno, e.strerror or str(e), str(path)) from None
+
+
+@contextlib.contextmanager
+def files_into(folder):
+    """Yields a temporary folder inside ``folder`` (one that is added to, as a sweep's, not
+    replaced whole); on success each file written there replaces its namesake in ``folder``,
+    whole (a reader never sees half a file); on any error none is moved. The temporary folder
+    is removed either way."""
+    folder = Path(folder)
+    staging = folder / f".partial-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+    staging.mkdir()
+    try:
+        yield staging
+        for path in sorted(staging.iterdir()):
+            os.replace(path, folder / path.name)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
 
 
 def plain(value):
@@ -110,6 +142,17 @@ def write_run(run, folder, *, diagram=True):
             write_text(folder / name, text)
     if diagram:
         write_diagram_svg(run.diagram_dot, folder / "diagram.svg")
+
+
+def write_diagram_svg(dot_text, path):
+    """Graphviz ``dot_text`` drawn as SVG at ``path``, the .dot kept beside it."""
+    write_text(path, diagram_svg(dot_text))
+    write_text(Path(path).with_suffix(".dot"), dot_text)
+
+
+def write_diagram_overview_svg(dot_text, path):
+    """``results.diagram.diagram_overview_dot`` of Drake's Graphviz text, drawn as SVG."""
+    write_text(path, diagram_svg(diagram_overview_dot(dot_text)))
 
 
 def run_texts(run, **extra):

@@ -10,6 +10,7 @@ can be writing them then) and ignored by git (``.gitignore``).
 """
 
 import contextlib
+import errno
 import os
 import shutil
 import signal
@@ -141,8 +142,8 @@ def output_folder(out_dir):
         try:
             with _os_errors_named(out_dir, parent):
                 staging.mkdir()
-                (staging / MARKER).write_text("written by drake_car; replaced whole by the "
-                                              "next run that writes here\n")
+                write_text(staging / MARKER, "written by drake_car; replaced whole by the "
+                           "next run that writes here\n")
             with _os_errors_named(out_dir, parent):
                 yield staging
             if not (staging / "README.md").exists():  # what the columns mean
@@ -182,15 +183,36 @@ def _ours(path, out_dir, parent):
         f".{out_dir.name}.")
 
 
+# OS errors that a write raises with no path (the file's write or close, not its open): the
+# disk is full, a quota is reached, a file grows past its limit, the disk is read-only or
+# failing. Inside an output's writing they are the output's.
+WRITE_ERRNOS = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO)
+
+
+def os_error_reason(error, out_dir, parent=None):
+    """"path: reason" of OSError ``error`` when it is about the output ``out_dir`` (a path
+    under it, or one of its temporary names beside it, in ``parent``; or no path and an
+    errno of a write, ``WRITE_ERRNOS``), else None."""
+    out_dir = Path(out_dir).absolute()
+    parent = out_dir.parent if parent is None else parent
+    where = next((Path(os.fsdecode(f)) for f in (error.filename, error.filename2)
+                  if f is not None), None)
+    reason = error.strerror or str(error)
+    if where is None:
+        return f"{reason} (writing it)" if error.errno in WRITE_ERRNOS else None
+    if not _ours(where.absolute(), out_dir, parent):
+        return None
+    return f"{where}: {reason}"
+
+
 @contextlib.contextmanager
 def _os_errors_named(out_dir, parent):
-    """An OSError on a path under ``parent`` (the output, its temporary folders) becomes an
-    OutputError naming that path and the reason; others pass unchanged."""
+    """An OSError about the output (``os_error_reason``) becomes an OutputError naming --out,
+    the path and the reason; others pass unchanged."""
     try:
         yield
     except OSError as e:
-        where = next((Path(os.fsdecode(f)) for f in (e.filename, e.filename2)
-                      if f is not None), None)
-        if where is None or not _ours(where.absolute(), out_dir, parent):
+        reason = os_error_reason(e, out_dir, parent)
+        if reason is None:
             raise
-        raise OutputError(f"--out {out_dir}: {where}: {e.strerror or e}") from None
+        raise OutputError(f"--out {out_dir}: {reason}") from None

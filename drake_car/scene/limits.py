@@ -8,11 +8,13 @@ trust a checked scene.
   anti-roll bars (``model.anti_roll_bar.time_step_limit_s``), the reference friction scheme (the
   law's ``explicit_time_step_limit_s`` on the car's strut: ``model.struts``), the tyres' spin
   coupling (``law.tyre.slip.explicit_time_step_limit_s``).
-- The tyre file against the car: its FZMIN..FZMAX holds the car's wheel load at rest, and its
-  relaxation data exist and are positive there when the scene takes them from the file. A
-  ``combined_slip: true`` on a file without a combined-slip fit (RBX1/RBY1 zero or absent)
-  runs (it still acts through the aligning moment) but is said: a warning, once per file in a
-  process (``law.tyre.plausibility.combined_slip_note``), and a line in every report.
+- The tyre file against the car: its FZMIN..FZMAX holds the car's wheel load at rest, and it
+  has relaxation data when the scene takes them from the file (the file's own values, e.g.
+  relaxation lengths > 0 over its load range, are checked once, when it is read:
+  ``law.tyre.plausibility``). A ``combined_slip: true`` on a file without a combined-slip fit
+  (RBX1/RBY1 zero or absent) runs (it still acts through the aligning moment) but is said: a
+  warning, once per file in a process (``law.tyre.plausibility.combined_slip_note``), and a
+  line in every report.
 - The driver against the manoeuvre (``check_driver``): a ``!PathFollower`` only on a manoeuvre
   defined by a path, such a manoeuvre only with it, its chassis channels logged (its outcome is
   judged from them), the driver's period no shorter than the step, the body no narrower than
@@ -120,13 +122,7 @@ def _check_tyre_file(scene):
                 "tyres.slip.relaxation_lengths_from_file", True,
                 f"needs relaxation data: {tyre.name} ({tyre.form}) has no relaxation data "
                 "(PAC2002: PTX*/PTY*; MF 6.x: LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS)")
-        for name, value in zip(("longitudinal", "lateral"), sigma):
-            if not value > 0:
-                raise ParameterError(
-                    "tyres.slip.relaxation_lengths_from_file", True,
-                    f"takes a {name} relaxation length of {value:.3g} m from {tyre.name} at "
-                    f"this car's wheel load {wheel_N:.0f} N; it must be > 0")
-        slip_lengths = sigma
+        slip_lengths = sigma  # > 0 at every load in FZMIN..FZMAX: checked when the file is read
     else:
         slip_lengths = (slip.relaxation_length_long_m, slip.relaxation_length_lat_m)
     stiffness = magic_formula(tyre, tyre.FNOMIN, 0.0, 0.0, 0.0, 0.0).slip_stiffness

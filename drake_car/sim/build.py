@@ -16,7 +16,7 @@ from drake_car.law.tyre.magic_formula import relaxation_lengths_m
 from drake_car.law.tyre.contact import RadialTyre
 from drake_car.law.tyre.plausibility import wheel_load_note
 from drake_car.model.anti_roll_bar import anti_roll_bar_gain
-from drake_car.model.car import add_car
+from drake_car.model.car import add_car, forward_speed_index, rolling_momentum_scale
 from drake_car.model.channels import CAR_CHANNELS, CarChannels
 from drake_car.model.drive import add_drive_actuators
 from drake_car.model.geometry import design_axle_loads_N, steering_sign
@@ -34,6 +34,7 @@ from drake_car.sim.driver_wiring import (
 from drake_car.sim.car_diagram import CASES, CarDiagram
 from drake_car.systems.gain_schedule import GainSchedule
 from drake_car.systems.strut_friction import StrutFriction
+from drake_car.systems.sap_ballast import add_sap_ballast, connect_sap_ballast
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 from drake_car.systems.tyre import TyreSystem
 
@@ -92,9 +93,15 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
     if column.own_group:
         wiring.add("steering_column", len(column.pairs), pd=True)
     pacer = add_sap_pacer(plant) if scene.simulator.sap_pacer else None
+    factor = scene.simulator.sap_tolerance_factor
+    ballast = add_sap_ballast(plant) if factor > 1.0 else None
     plant.Finalize()
     if pacer is not None:
         connect_sap_pacer(builder, plant, pacer)
+    if ballast is not None:  # SAP's tolerance loosened by the factor (the solver axis)
+        connect_sap_ballast(builder, plant, ballast, speed_index=forward_speed_index(car),
+                            scale_per_speed=rolling_momentum_scale(car), factor=factor)
+    helpers = [i for i in (pacer, ballast) if i is not None]  # decoupled from the car
 
     # 2. Anti-roll bars: the arms' angles coupled left to right (a matrix, no Python).
     bars = anti_roll_bar_gain(plant, car, car.arm_rates) if car.arm_rates else None
@@ -138,7 +145,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
     # command, or a position from outside).
     case_port, driver, channels = None, None, None
     if external_driver or isinstance(scene.steering, PathFollower):
-        channels = _car_channels(builder, plant, car, pacer, scene, extra=["chassis"])
+        channels = _car_channels(builder, plant, car, helpers, scene, extra=["chassis"])
     if external_driver:
         inputs["rack_position_m"], rack_port = rack_command(builder)
     elif isinstance(scene.steering, PathFollower):
@@ -185,7 +192,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         builder.Connect(combine.get_output_port(0), plant.get_applied_spatial_force_input_port())
 
     # 8. Loggers: one per channel group asked for; the car's state every step.
-    loggers, columns = _add_loggers(builder, plant, car, tyre, friction, pacer, scene,
+    loggers, columns = _add_loggers(builder, plant, car, tyre, friction, helpers, scene,
                                     channels)
     input_index = {name: builder.ExportInput(port, name) for name, port in inputs.items()}
     output_index = {}
@@ -308,17 +315,17 @@ def _let_go(builder, plant, car, scene, column, wiring):
     builder.Connect(system.actuation_output_port(), plant.get_actuation_input_port(instance))
 
 
-def _car_channels(builder, plant, car, pacer, scene, extra=()):
+def _car_channels(builder, plant, car, helpers, scene, extra=()):
     """The car's channels system with the groups the scene logs and ``extra`` ones."""
     groups = [g for g in channels_of(scene) if g in CAR_CHANNELS]
     channels = builder.AddSystem(CarChannels(plant, car, groups + [
-        g for g in extra if g not in groups], pacer_instance=pacer))
+        g for g in extra if g not in groups], helper_instances=helpers))
     channels.set_name("car_channels")
     channels.connect(builder, plant)
     return channels
 
 
-def _add_loggers(builder, plant, car, tyre, friction, pacer, scene, channels=None):
+def _add_loggers(builder, plant, car, tyre, friction, helpers, scene, channels=None):
     """One logger per channel group the scene logs; ``channels``: the car's channels system
     when the build made one already (a driver reads it)."""
     groups = channels_of(scene)
@@ -327,7 +334,7 @@ def _add_loggers(builder, plant, car, tyre, friction, pacer, scene, channels=Non
     car_groups = [g for g in groups if g in CAR_CHANNELS]
     if car_groups:
         if channels is None:
-            channels = _car_channels(builder, plant, car, pacer, scene)
+            channels = _car_channels(builder, plant, car, helpers, scene)
         for group in car_groups:
             loggers[group] = LogVectorOutput(channels.GetOutputPort(group), builder, period)
             columns[group] = list(CAR_CHANNELS[group])

@@ -19,6 +19,16 @@ Otherwise it has not converged: its error is the span of the last three values a
 at every step are kept, never a number with a small error. Two steps alone cannot tell
 "converged" from "both on the same wrong branch" of a stick-slip outcome, hence three.
 
+The solver axis (``solver_twin``): SAP's Newton iterations stop at a relative tolerance εr
+(1e-6) of the system's momentum that no step removes (``systems.sap_ballast``). Once the steps
+are done, a twin of each run at εr loosened twice (``loosened``), at the finest step each of its
+outcomes reached, in one more sweep, gives each outcome's solver error there to first order in
+εr: |x(2 εr) - x(εr)|. It is the floor below which the step's differences need not shrink: an
+outcome whose last two differences are within it has converged as far as the step can take it
+(``classify``'s floor), and its budget is its step error plus its solver error; ``limited_by``
+names the larger. Measured where the value is reported: on b_3's claim-2 value (issue 32) the
+twin moved it by 0.3, 8.2 and 0.2 µm at 1, 0.5 and 0.25 ms, so a coarser step's would not do.
+
 The loop (``refine``): the first round runs every scene at h, h/2 and h/4 (one sweep); each
 further round halves the step of the runs an unconverged outcome needs, until every outcome
 has converged, the next step would be finer than ``finest_step_s``, or ``budget_s`` of wall
@@ -46,10 +56,19 @@ def halved(scene, halvings=1):
     return dataclasses.replace(scene, plant=config)
 
 
-def classify(values, tolerance, order=1):
+def loosened(scene, factor=2.0):
+    """``scene`` with SAP's relative tolerance loosened by ``factor`` (the solver axis' twin;
+    ``scene.scene.Simulator.sap_tolerance_factor``)."""
+    simulator = dataclasses.replace(
+        scene.simulator, sap_tolerance_factor=scene.simulator.sap_tolerance_factor * factor)
+    return dataclasses.replace(scene, simulator=simulator)
+
+
+def classify(values, tolerance, order=1, floor=0.0):
     """Convergence of an outcome from its ``values`` at successive halvings of the step (see
-    the module). Returns {"converged", "value" (the finest), "error", "observed_order" (None
-    when not measurable)}."""
+    the module); ``floor``: its solver error, below which differences need not shrink.
+    Returns {"converged", "value" (the finest), "error", "observed_order" (None when not
+    measurable)}."""
     values = [float(v) for v in values]
     last = values[-1]
     if len(values) < 3:
@@ -59,12 +78,13 @@ def classify(values, tolerance, order=1):
     d1, d2 = abs(x0 - x1), abs(x1 - x2)
     observed = math.log2(d1 / d2) if d1 > 0 and d2 > 0 else None
     shrinks = d2 <= SLACK * 2.0 ** -order * d1
-    quiet = max(d1, d2) <= NOISE * tolerance
+    quiet = max(d1, d2) <= max(NOISE * tolerance, floor)
     # The finest value's error: d2, but no less than d1 shrunk once at the scheme's order. A
     # last difference far below that (6.7, 5.0, 5.0: a branch jump, then two steps on the new
     # branch) is not the scheme's error shrinking: two values on a branch are not three.
     error = max(d2, 2.0 ** -order * d1)
-    if error <= tolerance and (shrinks or quiet):
+    floored = max(d1, d2) <= floor  # the step has taken it as far as the solver lets it
+    if (error <= tolerance and (shrinks or quiet)) or floored:
         return {"converged": True, "value": x2, "error": error, "observed_order": observed}
     return {"converged": False, "value": x2, "error": max(x0, x1, x2) - min(x0, x1, x2),
             "observed_order": observed}
@@ -74,7 +94,8 @@ def classify(values, tolerance, order=1):
 class Refined:
     """What ``refine`` found. ``outcomes``: (subject, outcome) -> {"unit", "tolerance",
     "steps_s" and "values" (at each step tried), "converged", "value", "error",
-    "observed_order", "step_s" (the finest tried)}; ``runs``: level -> name -> Run (level k:
+    "observed_order", "step_s" (the finest tried), "solver_error" (None without a solver
+    twin), "limited_by" ("step" or "solver")}; ``runs``: level -> name -> Run (level k:
     the scene's step / 2**k); ``steps_s``: name -> the steps it ran at; ``needed_step_s``:
     name -> the finest step it ran at (None if a budget stopped it unconverged there: see
     ``converged_runs``); ``rounds``: [{"step_s": steps, "runs": count, "wall_s"}];
@@ -102,7 +123,8 @@ def subjects_runs(subject):
 
 
 def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
-           finest_step_s=None, budget_s=None, drives=None, first_extra=None, halve=halved):
+           finest_step_s=None, budget_s=None, drives=None, first_extra=None, halve=halved,
+           solver_twin=None):
     """Refines ``scenes`` (name -> Scene) until the outcomes converge (see the module).
 
     ``outcomes_of(runs)``: runs (name -> Run, all at one halving) -> {(subject, outcome):
@@ -112,7 +134,9 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
     convergence is refined for (default: every outcome with a tolerance); the others are
     classified on the steps their runs ran at. ``first_extra``: scenes run in the first round's
     sweep too, not refined (returned as level "extra"). ``halve(scene, k)``: the scene at
-    its step / 2**k (default ``halved``)."""
+    its step / 2**k (default ``halved``). ``solver_twin(scene)``: the scene with SAP's
+    tolerance loosened (``loosened``), run at each outcome's finest step after the loop (runs
+    level "solver k"): the solver axis (see the module); None: no solver axis."""
     began = time.perf_counter()
     drives = set(tolerances) if drives is None else set(drives)
     runs, steps, rounds, values, failed = {}, {n: [] for n in scenes}, [], {}, set()
@@ -167,25 +191,59 @@ def refine(scenes: dict, outcomes_of, tolerances: dict, simulate, *, order=1,
                 for lv in range(len(steps[n]), top + 1):
                     if n not in todo.get(lv, []):
                         todo.setdefault(lv, []).append(n)
-    return Refined(_classified(values, tolerances, order, scenes), runs, steps, rounds,
+    solver = None
+    if solver_twin is not None:
+        solver = _solver_axis(runs, values, outcomes_of, rounds, failed, scenes, halve,
+                              solver_twin, simulate)
+    return Refined(_classified(values, tolerances, order, scenes, solver), runs, steps, rounds,
                    time.perf_counter() - began, stopped, sorted(failed))
+
+
+def _solver_axis(runs, values, outcomes_of, rounds, failed, scenes, halve, twin, simulate):
+    """The solver twins, one sweep (a round of its own): each run at each level where one of
+    its outcomes ends, with SAP's tolerance loosened (``twin``); returns (subject, outcome) ->
+    |x(twin) - x| at that level (a twin that failed gives none)."""
+    finest = {key: max(v["by_level"]) for key, v in values.items()}
+    wanted = {(name, level) for (subject, _), level in finest.items()
+              for name in subjects_runs(subject) if name not in failed}
+    batch = {f"{_key(n, lv)} (solver twin)": twin(halve(scenes[n], lv) if lv else scenes[n])
+             for n, lv in sorted(wanted)}
+    began = time.perf_counter()
+    done = simulate(batch)
+    rounds.append({"step_s": sorted({s.plant.time_step for s in batch.values()}),
+                   "runs": len(batch), "wall_s": time.perf_counter() - began,
+                   "solver_twins": True})
+    for n, lv in wanted:
+        if f"{_key(n, lv)} (solver twin)" in done:
+            runs.setdefault(f"solver {lv}", {})[n] = done[f"{_key(n, lv)} (solver twin)"]
+    solver = {}
+    for level in sorted(set(finest.values())):
+        for key, (value, _) in outcomes_of(runs.get(f"solver {level}", {})).items():
+            if finest.get(key) == level:
+                solver[key] = abs(value - values[key]["by_level"][level])
+    return solver
 
 
 def _key(name, level):
     return name if level == 0 else f"{name} at dt/{2 ** level}"
 
 
-def _classified(values, tolerances, order, scenes):
+def _classified(values, tolerances, order, scenes, solver=None):
+    """Outcome rows (``Refined.outcomes``); ``solver``: (subject, outcome) -> solver error, or
+    None without a solver axis."""
     out = {}
     for (subject, outcome), v in values.items():
         levels = sorted(v["by_level"])
         series = [v["by_level"][lv] for lv in levels]
         base = scenes[subjects_runs(subject)[0]].plant.time_step
         tolerance = tolerances.get(outcome)
-        found = classify(series, math.inf if tolerance is None else tolerance, order)
+        floor = None if solver is None else solver.get((subject, outcome))
+        found = classify(series, math.inf if tolerance is None else tolerance, order,
+                         floor or 0.0)
         out[(subject, outcome)] = {
             "unit": v["unit"], "tolerance": tolerance, "steps_s": [base / 2 ** lv for lv in levels],
-            "values": series, "step_s": base / 2 ** levels[-1], **found}
+            "values": series, "step_s": base / 2 ** levels[-1], **found, "solver_error": floor,
+            "limited_by": "solver" if floor is not None and floor > found["error"] else "step"}
         if tolerance is None:
             out[(subject, outcome)]["converged"] = None  # no tolerance: not judged
     return out

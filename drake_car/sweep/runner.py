@@ -41,7 +41,6 @@ scenes and the infrastructure failures again (``missing``). A status.json withou
 again (the old runs are kept, and counted on stderr with what differs).
 """
 import contextlib
-import csv
 import dataclasses
 import datetime
 import os
@@ -65,9 +64,9 @@ from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.simulate import simulate
 from drake_car.sweep.scheduler import CONNECT_TIMEOUT_S, check_scheduler
 from drake_car.sweep.store import (
-    INDEX_FIELDS, INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, announce_other_code,
-    check_layout, commit_run, damage, failure_kind, files_read, folder_lock, key_parts, load_run,
-    read_status, rebuild_index, remove_stale, run_key)
+    INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, announce_other_code, append_index_row,
+    check_layout, commit_run, damage, failure_kind, files_read, key_parts, load_run,
+    read_status, run_key, writing)
 from drake_car.systems.failure import SimulationFailure
 
 LOOPBACK = "127.0.0.1"
@@ -333,33 +332,25 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
     runs = out / "runs"
     jobs = jobs if jobs is not None else jobs_of(scenes)
     check_layout(out)
-    runs.mkdir(parents=True, exist_ok=True)
     counts = {"ok": 0, "failed": 0, "reused": 0}
     status = {}
 
     def done(job, record, result):
         commit_run(runs, job, record, result)
-        with open(out / "index.csv", "a", newline="") as f:
-            csv.DictWriter(f, INDEX_FIELDS, extrasaction="ignore").writerow(record)
+        append_index_row(out, record)
         status[job.hash] = record["status"]
         counts[record["status"]] += 1
 
-    with folder_lock(out):
-        try:
-            remove_stale(runs)
-            rebuild_index(out)
-            todo = missing(scenes, out, rerun_failed=rerun_failed, jobs=jobs)
-            for key in jobs.keys() - {job.hash for job in todo}:
-                status[key] = read_status(runs / key)["status"]
-            counts["reused"] = len(status)
-            if todo and client is not None:
-                compute(client, todo, done, progress=progress)
-            elif todo:
-                with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
-                    compute(own, todo, done, progress=progress)
-        finally:
-            remove_stale(runs)
-            rebuild_index(out)
+    with writing(out):  # locked, its index rebuilt before and after
+        todo = missing(scenes, out, rerun_failed=rerun_failed, jobs=jobs)
+        for key in jobs.keys() - {job.hash for job in todo}:
+            status[key] = read_status(runs / key)["status"]
+        counts["reused"] = len(status)
+        if todo and client is not None:
+            compute(client, todo, done, progress=progress)
+        elif todo:
+            with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
+                compute(own, todo, done, progress=progress)
     return {**counts, "wall_s": time.perf_counter() - began, "status": status,
             "hashes": {name: key for key, job in jobs.items() for name in job.names}}
 

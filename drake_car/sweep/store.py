@@ -4,6 +4,7 @@ completes), the index rebuilt from them, a lock so that one sweep writes at a ti
 simulation raised: kept) or "infrastructure" (Dask gave no result, or its files could not be
 written: the next sweep runs it again); one without a kind counts as "run"."""
 
+import contextlib
 import csv
 import logging
 import hashlib
@@ -18,8 +19,8 @@ from pathlib import Path
 from drake_car.law.tyre.tir import read_tir_bytes
 from drake_car.model.loading import tir_path
 from drake_car.results.columns import folder_readme
-from drake_car.results.files import write_text
-from drake_car.results.folder import OutputError, check_no_run_in_progress
+from drake_car.results.files import named, write_text
+from drake_car.results.folder import OutputError, check_no_run_in_progress, os_error_reason
 from drake_car.results.folder import folder_lock as results_folder_lock
 from drake_car.results.lock import holder
 from drake_car.results.provenance import code_versions
@@ -172,8 +173,10 @@ def load_run(out_dir, key):
 def commit_run(runs, job, record, result):
     """Writes one run's folder as ``runs/.tmp-*`` and renames it to ``runs/<hash>``: an ok
     run's ``result`` is its files' texts (``results.record.run_texts``, made on the worker),
-    their checksums go into status.json ("files"). An ok run whose files cannot be written is
-    recorded as failed, of kind ``INFRASTRUCTURE_FAILURE``."""
+    their checksums go into status.json ("files"). An ok run whose worker sent no files is
+    recorded as failed, of kind ``INFRASTRUCTURE_FAILURE``; an OS error (a full disk) goes up,
+    nothing of the run's folder left: the disk does not empty itself, so the sweep stops (its
+    runs so far kept) rather than compute the others to lose them too."""
     tmp = runs / f".tmp-{job.hash}-{uuid.uuid4().hex[:8]}"
     try:
         tmp.mkdir()
@@ -182,8 +185,11 @@ def commit_run(runs, job, record, result):
                 if not (isinstance(result, dict) and set(RUN_FILES) <= set(result)):
                     raise ValueError("the worker sent no run files")
                 for name, text in result.items():
-                    (tmp / Path(name).name).write_text(text)
+                    with named(tmp / Path(name).name):
+                        (tmp / Path(name).name).write_text(text)
                 record["files"] = checksums(result)
+            except OSError:
+                raise
             except Exception as e:  # this run fails, not the sweep
                 shutil.rmtree(tmp)
                 tmp.mkdir()
@@ -191,8 +197,10 @@ def commit_run(runs, job, record, result):
                               error=f"writing its files: {type(e).__name__}: {e}",
                               traceback=traceback.format_exc())
         if not (tmp / "scene.yaml").exists():
-            (tmp / "scene.yaml").write_text(dump_scene_file(job.scene))
-        (tmp / "status.json").write_text(json.dumps(record, indent=1) + "\n")
+            with named(tmp / "scene.yaml"):
+                (tmp / "scene.yaml").write_text(dump_scene_file(job.scene))
+        with named(tmp / "status.json"):
+            (tmp / "status.json").write_text(json.dumps(record, indent=1) + "\n")
         final = runs / job.hash
         if final.exists():  # a failed run done again: swap (killed in between: run missing)
             old = runs / f".tmp-old-{job.hash}-{uuid.uuid4().hex[:8]}"
@@ -204,6 +212,91 @@ def commit_run(runs, job, record, result):
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+def append_index_row(out, record):
+    """Appends ``record``'s row to ``out``/index.csv whole, or not at all: a write cut short
+    (a full disk) is truncated back and its error goes up naming the file."""
+    path = Path(out) / "index.csv"
+    buffer = io.StringIO(newline="")
+    csv.DictWriter(buffer, INDEX_FIELDS, extrasaction="ignore").writerow(record)
+    data = buffer.getvalue().encode()
+    fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
+    try:
+        size = os.fstat(fd).st_size
+        try:
+            with named(path):
+                written = 0
+                while written < len(data):
+                    written += os.write(fd, data[written:])
+        except BaseException:
+            os.ftruncate(fd, size)
+            raise
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def sweep_output(out):
+    """Around the writing of sweep folder ``out``: an OS error about it (a full disk, a refused
+    write, a folder removed; ``results.folder.os_error_reason``) is an OutputError naming
+    --out, the path and the reason, and that the runs finished are kept; a folder this made
+    (new, or empty before) that ends in an error before any run is kept in it is removed
+    again (emptied, if it was there): nothing written."""
+    out = Path(out).absolute()
+    new = not out.exists()
+    empty = out.is_dir() and not any(out.iterdir())
+    try:
+        yield
+    except BaseException as e:
+        kept = kept_runs(out)
+        if (new or empty) and not kept and out.is_dir() and holder(
+                out / ".sweep.lock") in (None, os.getpid()):
+            if new:
+                shutil.rmtree(out, ignore_errors=True)
+            else:
+                for path in out.iterdir():
+                    shutil.rmtree(path) if path.is_dir() else path.unlink(missing_ok=True)
+        reason = os_error_reason(e, out) if isinstance(e, OSError) else None
+        if reason is None:
+            raise
+        raise OutputError(f"--out {out}: {reason}" + (
+            f"; the runs finished ({kept}) are kept: run the same command again to go on"
+            if kept else "")) from None
+
+
+@contextlib.contextmanager
+def writing(out):
+    """Sweep folder ``out`` being written: ``sweep_output`` (an OS error one line; a new folder
+    that gets no run removed again), its lock, its temporary run folders removed and its index
+    rebuilt before and after (after an error too, where a second OS error does not hide the
+    one that stopped the sweep). Yields ``out``/runs."""
+    out = Path(out)
+    runs = out / "runs"
+    with sweep_output(out):
+        runs.mkdir(parents=True, exist_ok=True)
+        with folder_lock(out):
+            stopped = True
+            try:
+                remove_stale(runs)
+                rebuild_index(out)
+                yield runs
+                stopped = False
+            finally:
+                remove_stale(runs)
+                try:
+                    rebuild_index(out)
+                except OSError:
+                    if not stopped:
+                        raise
+
+
+def kept_runs(out):
+    """How many run folders ``out``/runs holds (its temporary ones not counted)."""
+    runs = Path(out) / "runs"
+    if not runs.is_dir():
+        return 0
+    return sum(1 for p in runs.iterdir() if not p.name.startswith("."))
 
 
 def announce(message):

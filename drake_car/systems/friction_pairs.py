@@ -26,7 +26,10 @@ class Strut:
     overlap's middle, q that joint's position. ``rod_radius_m`` is r of eq. (6) (the rotation
     pair's moment arm). ``constant_normal_force_N`` replaces the reaction (rigs);
     ``initial_normal_force_N`` is used before the first step, when Drake's sampled reaction port
-    still reads zero."""
+    still reads zero. ``mirrored``: the strut is the mirror image of a reference strut (a car's
+    right strut of its left), so eq. (4) is evaluated in the reference's reflected frame: the
+    moment enters with the opposite sign (``law.friction.frd`` says why: the paper's vector form
+    is not invariant under a reflection)."""
 
     pairs: list
     label: str = ""
@@ -37,6 +40,7 @@ class Strut:
     constant_normal_force_N: float | None = None
     initial_normal_force_N: float | None = None
     params: object = None
+    mirrored: bool = False
 
 
 def declare_pairs(plant, prismatic=None, revolute=None, scheme="fast", prefix="friction"):

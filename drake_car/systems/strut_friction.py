@@ -79,7 +79,10 @@ Normal force (eq. 4) comes from the reaction of the strut's ``normal_force_joint
 ``reaction_forces`` output: force and moment on the joint's child at its frame Jc, in Jc). The
 components perpendicular to the joint axis are used, the moment moved to the middle of the
 overlap: M_mid = M_Jc + a(q)·(û × F) with a(q) = a0 + a1·q, and the overlap d(q) = d0 + d1·q
-(``friction_pairs.Strut``). For rigs, ``constant_normal_force_N`` replaces the reaction.
+(``friction_pairs.Strut``). For rigs, ``constant_normal_force_N`` replaces the reaction. A
+``mirrored`` strut (a car's right strut) has eq. (4) evaluated in its reference strut's
+reflected frame: the paper's vector form is not invariant under a reflection, and a car whose
+struts are evaluated in one frame is not mirror-symmetric (``law.friction.frd``).
 """
 
 import math
@@ -131,7 +134,8 @@ class _StrutData:
         self.axis = tuple(float(a) for a in np.asarray(axis, dtype=float)
                           / np.linalg.norm(axis))
         self.row = pack_strut(self.params, initial=self.initial, q_index=self.q_index,
-                              overlap=self.overlap, offset=self.offset, axis=self.axis)
+                              overlap=self.overlap, offset=self.offset, axis=self.axis,
+                              mirrored=bool(strut.mirrored))
 
 
 class StrutFriction(LeafSystem):

@@ -28,7 +28,8 @@ P = enum.IntEnum("P", {name: i for i, name in enumerate((
     "V_INDEX", "KD_UNIT", "KP_UNIT", "ROD_RADIUS", "PRELOAD_MOMENT", "STRUT_MU_S"))})
 S = enum.IntEnum("S", {name: i for i, name in enumerate((
     "FROM_REACTION", "CONSTANT", "HAS_INITIAL", "INITIAL", "Q_INDEX", "OVERLAP_0", "OVERLAP_1",
-    "OFFSET_0", "OFFSET_1", "AXIS_X", "AXIS_Y", "AXIS_Z", "PRELOAD_FORCE", "MU_S", "FORM"))})
+    "OFFSET_0", "OFFSET_1", "AXIS_X", "AXIS_Y", "AXIS_Z", "PRELOAD_FORCE", "MU_S", "FORM",
+    "MOMENT_SIGN"))})
 # Floor on PD gains: Drake removes a controller whose gains are both zero.
 MIN_GAIN = 1e-9
 # Below this fraction of Δv the fast scheme's damping floor blends to the steeper branch (the
@@ -55,10 +56,11 @@ def pack_pair(law, strut_law, *, rotation, strut, q_index, v_index, rod_radius):
 
 
 def pack_strut(strut_law, *, constant=None, initial=None, q_index=0, overlap=(0.0, 0.0),
-               offset=(0.0, 0.0), axis=(0.0, 0.0, 1.0)):
+               offset=(0.0, 0.0), axis=(0.0, 0.0, 1.0), mirrored=False):
     """One strut's row: its normal force ``constant``, or from its joint's reaction (then
     ``initial`` before the first step, if given; ``q_index`` the joint's position, ``overlap``
-    and ``offset`` as ``friction_pairs.Strut``'s, ``axis`` the joint's unit axis)."""
+    and ``offset`` as ``friction_pairs.Strut``'s, ``axis`` the joint's unit axis, ``mirrored``
+    as ``law.friction.frd.normal_force``'s: the moment's sign in eq. (4))."""
     row = np.zeros(len(S))
     row[S.FROM_REACTION] = constant is None
     row[S.CONSTANT] = 0.0 if constant is None else constant
@@ -70,6 +72,7 @@ def pack_strut(strut_law, *, constant=None, initial=None, q_index=0, overlap=(0.
     row[S.AXIS_X], row[S.AXIS_Y], row[S.AXIS_Z] = axis
     row[S.PRELOAD_FORCE], row[S.MU_S] = strut_law.preload_force_N, strut_law.mu_s
     row[S.FORM] = NORMAL_FORCE_FORMS.index(strut_law.normal_force_form)
+    row[S.MOMENT_SIGN] = -1.0 if mirrored else 1.0
     return row
 
 
@@ -179,6 +182,9 @@ def friction_step(x, reactions, initial, fast, pairs, struts, memory, actuation,
         mx += offset * (uy * fz - uz * fy)
         my += offset * (uz * fx - ux * fz)
         mz += offset * (ux * fy - uy * fx)
+        # A mirrored strut: eq. (4) in the reference strut's reflected frame (law.friction.frd).
+        sign = strut[S.MOMENT_SIGN]
+        mx, my, mz = sign * mx, sign * my, sign * mz
         f_axial = fx * ux + fy * uy + fz * uz
         m_axial = mx * ux + my * uy + mz * uz
         normals[s] = normal_force(fx - f_axial * ux, fy - f_axial * uy, fz - f_axial * uz,

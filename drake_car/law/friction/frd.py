@@ -19,6 +19,17 @@ Normal force from the joint's transverse reaction force F and bending moment M:
                                  F and M, F1,2 = (F ∓ (2/d) û×M)/2; needs the axis û)
 Friction force and moment:  F_fric = μ N  (5),   M_fric = μ_rot (N r + M0/μs)  (6).
 
+A mirrored strut (``mirrored``): eq. (4)'s vector form adds a polar vector (F) to an axial one
+(M), so it is not invariant under a reflection R: a mirror image's force is R·F but its moment
+-R·M (det R = -1). Evaluated in one right-handed frame on both sides of a mirror-symmetric
+car, it gives the left strut |M/d + F| and the right strut, in the left's terms, |F - M/d|: a
+car whose right strut is not the mirror image of its left (measured on the paper's car at
+rest: N 1413.81 N left, 1413.57 N right, 1.6e-4 of N, in a state symmetric to 3e-15 m; it
+broke the mirror of the study's a and b runs, issue 32). A strut that is the mirror image of a
+reference strut is evaluated in the reference's reflected frame: its moment enters with the
+opposite sign. The other two forms hold only |F|, |M| and û×M (a polar vector): the sign
+leaves them unchanged, bit for bit.
+
 Phases: static -> kinetic when |v| > Δv, and then the creep (so μ1) resets to 0; kinetic ->
 static when |v| falls to Δv or below, and the creep accumulates again from 0.
 
@@ -144,16 +155,19 @@ def advance_creep(creep, phase, velocity, displacement, law: FrictionPairLaw):
 
 
 def normal_force(f_transverse, m_transverse, overlap, preload_force, mu_s, form="vector",
-                 axis=None):
+                 axis=None, mirrored=False):
     """Eq. (4). ``f_transverse`` and ``m_transverse`` are 3-vectors of the joint's reaction force
     and bending moment perpendicular to the joint axis, the moment taken about the middle of the
-    overlap; ``overlap`` is d > 0 (m); ``axis`` the unit joint axis (for "contact_pair").
-    Returns N ≥ 0 (N)."""
+    overlap; ``overlap`` is d > 0 (m); ``axis`` the unit joint axis (for "contact_pair");
+    ``mirrored``: the strut is the mirror image of a reference strut, eq. (4) is evaluated in the
+    reference's reflected frame (the module's docstring says why). Returns N ≥ 0 (N)."""
     if not overlap > 0:
         raise ParameterError("overlap d", overlap, "must be > 0 (m)")
     preload = preload_force / mu_s if preload_force > 0 else 0.0
     fx, fy, fz = f_transverse
     mx, my, mz = m_transverse
+    if mirrored:  # M is an axial vector: reflected, it changes sign against F
+        mx, my, mz = -mx, -my, -mz
     if form == "vector":
         return math.sqrt((mx / overlap + fx) ** 2 + (my / overlap + fy) ** 2
                          + (mz / overlap + fz) ** 2) + preload

@@ -119,7 +119,8 @@ def effective(values, form, name, where):
         else:
             out[key] = 2.0 if key == "PKY4" else (1.0 if key in ALL_SCALING else
                                                  (1.0 if key == "QSY7" else 0.0))
-    for key in BASIC + RANGES + CARCASS + VERTICAL + ("INFLPRES", "NOMPRES", "LMUV"):
+    for key in BASIC + RANGES + CARCASS + VERTICAL + ("INFLPRES", "NOMPRES", "PRESMIN",
+                                                       "PRESMAX", "LMUV"):
         if key in values:
             out[key] = values[key]
     for key, value in out.items():

@@ -27,7 +27,7 @@ import dataclasses
 import math
 
 from drake_car.law.tyre import formats
-from drake_car.law.tyre.plausibility import check_forces
+from drake_car.law.tyre.plausibility import check_coefficients, check_forces, check_relaxation
 from drake_car.law.tyre.property_file import TirFileError
 from drake_car.law.tyre.tir import read_tir
 
@@ -70,32 +70,38 @@ class MagicFormulaTyre:
         if not 0.1 <= values["UNLOADED_RADIUS"] <= 2.0:
             raise TirFileError(f"{where('UNLOADED_RADIUS')}: UNLOADED_RADIUS = "
                                f"{values['UNLOADED_RADIUS']} m must lie in [0.1, 2]")
+        ranges = {k: values.get(k, _NO_RANGE[k]) for k in formats.RANGES}
+        check_coefficients(values, ranges, where)
         for key, value in values.items():  # coefficients as attributes (fast to read)
             object.__setattr__(self, key, value)
-        self._derive(values, where)
+        self._derive(values, ranges, where)
         object.__setattr__(self, "warnings", ())
         object.__setattr__(self, "warnings", check_forces(self, magic_formula))
+        check_relaxation(self, relaxation_source(self), relaxation_lengths_m, where)
 
-    def _derive(self, values, where):
+    def _derive(self, values, ranges, where):
         mf6 = self.form in (formats.MF61, formats.MF62)
         fz0_scaled = values["FNOMIN"] * values["LFZO"]
-        ranges = {k: values.get(k, _NO_RANGE[k]) for k in formats.RANGES}
-        for low, high in (("FZMIN", "FZMAX"), ("KPUMIN", "KPUMAX"), ("ALPMIN", "ALPMAX"),
-                          ("CAMMIN", "CAMMAX")):
-            if ranges[low] > ranges[high]:
-                raise TirFileError(f"{where(high)}: {high} = {ranges[high]:g} is below "
-                                   f"{low} = {ranges[low]:g}")
         dpi, p_ratio = 0.0, 1.0
+        asked = self.pressure_Pa
+        if asked is not None and not mf6:
+            raise TirFileError(f"{self.name}: pressure_Pa = {asked:g} has no effect: the file is "
+                               f"{self.form}, which has no inflation-pressure terms (MF 6.x has)")
+        if asked is not None and not 0 < asked < math.inf:
+            raise TirFileError(f"{self.name}: pressure_Pa = {asked:g} must be a finite number > 0")
         if mf6:
             nominal = values.get("NOMPRES")
-            pressure = self.pressure_Pa if self.pressure_Pa is not None else values.get(
-                "INFLPRES", nominal)
+            pressure = asked if asked is not None else values.get("INFLPRES", nominal)
             if nominal is not None and pressure is not None:
                 if not (nominal > 0 and pressure > 0):
                     raise TirFileError(f"{where('NOMPRES')}: NOMPRES and INFLPRES must be > 0")
                 dpi, p_ratio = (pressure - nominal) / nominal, pressure / nominal
-            elif self.pressure_Pa is not None:
+            elif asked is not None:
                 raise TirFileError(f"{self.name}: no NOMPRES; the pressure terms cannot be used")
+            low, high = values.get("PRESMIN", 0.0), values.get("PRESMAX", math.inf)
+            if asked is not None and not low <= asked <= high:
+                raise TirFileError(f"{where('PRESMAX')}: pressure_Pa = {asked:g} lies outside "
+                                   f"the file's PRESMIN..PRESMAX = {low:g}..{high:g} Pa")
 
         def degressive(scale):  # λμ' = Aμ λμ* / (1 + (Aμ - 1) λμ*), Aμ = 10 (4.E8)
             return 10.0 * scale / (1.0 + 9.0 * scale) if mf6 else scale
@@ -110,12 +116,29 @@ class MagicFormulaTyre:
     def from_file(cls, path, *, pressure_Pa=None, clip=True):
         tir = read_tir(path)
         form, note = formats.detect(tir)
-        side = tir.header("TYRESIDE")
-        side = side.strip().upper() if isinstance(side, str) else "LEFT"
-        return cls(tir.coefficients(), str(path), form, pressure_Pa, clip,
-                   side if side in ("LEFT", "RIGHT") else "LEFT",
-                   note + ("" if side in ("LEFT", "RIGHT") else
-                           f"; TYRESIDE '{side}' read as LEFT"), tir.where)
+        side, read_as = tyre_side(tir)
+        return cls(tir.coefficients(), str(path), form, pressure_Pa, clip, read_as,
+                   note + ("" if side == read_as else f"; TYRESIDE '{side}' read as LEFT"),
+                   tir.where)
+
+
+# TYRESIDE: the side the data were measured on (mirrored for the other). 'UNKNOWN' (files that
+# did not record it, e.g. OpenTire's exports; Chrono's ChPac02Tire reads it as LEFT) and
+# 'SYMMETRIC' (no side) are read as LEFT; a file without TYRESIDE is LEFT's.
+TYRESIDES = {"LEFT": "LEFT", "RIGHT": "RIGHT", "UNKNOWN": "LEFT", "SYMMETRIC": "LEFT"}
+
+
+def tyre_side(tir):
+    """(TYRESIDE as written, upper case; the side it is read as) of a ``PropertyFile``."""
+    side = tir.header("TYRESIDE")
+    if side is None:
+        return "LEFT", "LEFT"
+    written = side.strip().upper() if isinstance(side, str) else side
+    if written not in TYRESIDES:
+        shown = f"'{side}'" if isinstance(side, str) else f"{side:g}"
+        raise TirFileError(f"{tir.where('TYRESIDE')}: TYRESIDE = {shown} must be LEFT or RIGHT "
+                           "('UNKNOWN' and 'SYMMETRIC', no side, are read as LEFT)")
+    return written, TYRESIDES[written]
 
 
 
@@ -357,11 +380,10 @@ def relaxation_lengths_m(tyre, fz):
 
 def relaxation_source(tyre):
     """Where a tyre's relaxation lengths come from: "PTX/PTY" (PAC2002 with PTX1 or PTY1),
-    "carcass" (MF 6.x with LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS > 0), or None."""
+    "carcass" (MF 6.x giving LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS), or None."""
     if tyre.form == formats.PAC2002:
         return "PTX/PTY" if (tyre.PTX1 or tyre.PTY1) else None
     if tyre.form in (formats.MF61, formats.MF62):
-        if (getattr(tyre, "LONGITUDINAL_STIFFNESS", 0.0) > 0
-                and getattr(tyre, "LATERAL_STIFFNESS", 0.0) > 0):
-            return "carcass"
+        if hasattr(tyre, "LONGITUDINAL_STIFFNESS") and hasattr(tyre, "LATERAL_STIFFNESS"):
+            return "carcass"  # given: their values are checked (``check_relaxation``)
     return None

@@ -1,4 +1,15 @@
-"""Is a tyre's Magic Formula a road tyre? Evaluated inside the file's own validity ranges.
+"""Is a tyre's Magic Formula a road tyre? Its coefficients checked as an engineer would, at read
+time (so the tyre command and a scene refuse the same file with the same line), the formula
+evaluated inside the file's own validity ranges.
+
+Coefficients (``check_coefficients``): the scaling factors that divide or scale a friction
+are positive (LFZO and LMUY divide: FNOMIN·LFZO is dfz's denominator, LMUY the aligning
+moment's; LMUX >= 0, MF 6.x's degressive λμ' divides by 1 + 9 LMUX); the validity ranges are
+ranges (FZMIN >= 0, each minimum below its maximum). Relaxation lengths (``check_relaxation``),
+where the file gives their data (PAC2002: PTX1 or PTY1; MF 6.x: both carcass stiffnesses):
+both > 0 at every load in FZMIN..FZMAX (without a range, up to 2 FNOMIN), sampled at
+``RELAXATION_SAMPLES`` loads from FZMIN (or 0.001 FNOMIN where FZMIN is 0: at no load both are
+0 by their formulas), and PTY2 != 0 (it divides).
 
 Loads: FZMIN (at least 5 % of FNOMIN), FNOMIN and FZMAX when the file gives its
 [VERTICAL_FORCE_RANGE], else 0.25, 1 and 2 FNOMIN (the book's file has no ranges); slips κ, α
@@ -19,6 +30,78 @@ MAX_FRICTION_COEFFICIENT = 2.5
 MAX_STIFFNESS_PER_LOAD = 200.0
 _PROBES = ((0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.1, 0.0),
            (0.0, -0.5, 0.0), (0.2, 0.2, 0.17), (-0.2, -0.2, -0.17))
+
+
+RELAXATION_SAMPLES = 101
+# The scaling factors that divide (must be > 0) and that scale a friction (must be >= 0).
+_DIVIDING_SCALES = ("LFZO", "LMUY")
+_FRICTION_SCALES = ("LMUX",)
+_RANGES = (("FZMIN", "FZMAX"), ("KPUMIN", "KPUMAX"), ("ALPMIN", "ALPMAX"), ("CAMMIN", "CAMMAX"))
+
+
+def check_coefficients(values, ranges, where):
+    """Refuses (``TirFileError`` naming the file's line, the key and what is allowed) a scaling
+    factor that divides by zero or makes a friction negative, and a validity range that is
+    none. ``values``: the coefficients the formula reads; ``ranges``: FZMIN..CAMMAX (a file's,
+    or the no-range defaults); ``where(key)``: "file:line"."""
+    for key in _DIVIDING_SCALES:
+        if not values[key] > 0:
+            raise TirFileError(f"{where(key)}: {key} = {values[key]:g} must be > 0 (a scaling "
+                               "factor; the formula divides by it)")
+    for key in _FRICTION_SCALES:
+        if not values[key] >= 0:
+            raise TirFileError(f"{where(key)}: {key} = {values[key]:g} must be >= 0 (a "
+                               "friction's scaling factor)")
+    if not ranges["FZMIN"] >= 0:
+        raise TirFileError(f"{where('FZMIN')}: FZMIN = {ranges['FZMIN']:g} N must be >= 0 (a "
+                           "wheel load)")
+    for low, high in _RANGES:
+        if ranges[low] > ranges[high]:
+            raise TirFileError(f"{where(high)}: {high} = {ranges[high]:g} is below "
+                               f"{low} = {ranges[low]:g}")
+        if ranges[low] == ranges[high]:
+            raise TirFileError(f"{where(low)}: {low} = {ranges[low]:g} must be below {high} = "
+                               f"{ranges[high]:g} (the range holds no value)")
+
+
+# The coefficients each relaxation length is made of, by its source, and its formula.
+_RELAXATION_KEYS = {
+    "PTX/PTY": (("σκ", ("PTX1", "PTX2", "PTX3", "LSGKP"),
+                 "Fz (PTX1 + PTX2 dfz) exp(-PTX3 dfz) R0/Fz0 LSGKP"),
+                ("σα", ("PTY1", "PTY2", "LFZO", "LSGAL"),
+                 "PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0 LFZO LSGAL")),
+    "carcass": (("σκ", ("LONGITUDINAL_STIFFNESS", "PCFX1", "PCFX2", "PCFX3"),
+                 "|Kxκ| / Cx, Cx = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz + PCFX2 dfz²)"
+                 "(1 + PCFX3 dpi)"),
+                ("σα", ("LATERAL_STIFFNESS", "PCFY1", "PCFY2", "PCFY3"),
+                 "|Kyα| / Cy, Cy = LATERAL_STIFFNESS (1 + PCFY1 dfz + PCFY2 dfz²)"
+                 "(1 + PCFY3 dpi)")),
+}
+
+
+def check_relaxation(tyre, source, relaxation_lengths_m, where):
+    """Refuses (``TirFileError``) relaxation data (``source``: "PTX/PTY", "carcass" or None)
+    that make a relaxation length <= 0 (or not finite) at a load in FZMIN..FZMAX;
+    ``relaxation_lengths_m(tyre, fz)``: the lengths' law."""
+    if source is None:
+        return
+    if source == "PTX/PTY" and tyre.PTY2 == 0 and tyre.PTY1 != 0:
+        raise TirFileError(f"{where('PTY2')}: PTY2 = 0 divides by zero in σα = PTY1 sin(2 "
+                           "atan(Fz / (PTY2 Fz0'))) R0 LFZO LSGAL; it must be != 0 where PTY1 "
+                           f"= {tyre.PTY1:g} gives relaxation data")
+    low = tyre.FZMIN if tyre.FZMIN > 0 else 1e-3 * tyre.FNOMIN
+    high = tyre.FZMAX if math.isfinite(tyre.FZMAX) else 2.0 * tyre.FNOMIN
+    for i in range(RELAXATION_SAMPLES):
+        fz = low + (high - low) * i / (RELAXATION_SAMPLES - 1)
+        for (name, keys, formula), value in zip(_RELAXATION_KEYS[source],
+                                                relaxation_lengths_m(tyre, fz)):
+            if not (math.isfinite(value) and value > 0):
+                given = ", ".join(f"{k} = {getattr(tyre, k, 0.0):g}" for k in keys
+                                  if where(k) != tyre.name or k == keys[0])
+                raise TirFileError(
+                    f"{where(keys[0])}: {given} give {name} = {value:.3g} m at Fz = {fz:.4g} "
+                    f"N; relaxation lengths must be > 0 at every load in FZMIN..FZMAX = "
+                    f"{tyre.FZMIN:g}..{tyre.FZMAX:g} N ({name} = {formula})")
 
 
 def _clip(x, low, high):

@@ -3,9 +3,14 @@
 A ``.tir`` file is a sequence of ``[SECTION]`` headers; in a section either ``KEY = value`` lines
 or, in a table section (``[SHAPE]``, ``[DEFLECTION_LOAD_CURVE]``, ``[BOTTOMING_CURVE]``, ...),
 rows of numbers with an optional ``{name name}`` header row. ``$`` and ``!`` start comments
-(whole lines, or trailing a value; not inside a quoted string); values are numbers
-(``1.4e+000``, ``.5``) or quoted strings (``'meter'``, glued to ``=`` or not); a value left
-empty (``KEY =``) counts as not given. Keys are unique within a section (``MASS`` is a unit in
+(whole lines, or trailing a value; not inside a quoted string); values are numbers or quoted
+strings (``'meter'``, glued to ``=`` or not). Numbers are the format's, Fortran reals as the
+TNO and Adams readers take them: an optional sign, digits with an optional point (``12``,
+``1.4``, ``.5``, ``5.``), an optional exponent ``E`` or ``D`` (``1.4e+000``, ``0.10D+01``);
+nothing else (Python's ``1_0``, ``inf``, ``nan`` are not numbers). A value left empty
+(``KEY =``) is an error naming the key and the line: an absent key takes the format's
+default, an empty one is a damaged file. A UTF-8 byte-order mark is skipped. Keys are unique
+within a section (``MASS`` is a unit in
 ``[UNITS]`` and a number in ``[INERTIA]``); the coefficients (every section but ``[MDI_HEADER]``
 and ``[UNITS]``) must be unique across sections. ``[UNITS]`` names the units of the dimensional
 parameters; they are converted to SI here (the Magic Formula's coefficients are dimensionless),
@@ -21,6 +26,8 @@ from drake_car.law.errors import InputError
 _SECTION = re.compile(r"^\[([A-Za-z0-9_ ]+)\]$")
 _ENTRY = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(.*)$")
 _TABLE_HEADER = re.compile(r"^\{.*\}$")
+# A Fortran real (the format's numbers): sign, digits and point, exponent E or D.
+_NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?$")
 # Sections that name the file and its units; every other section holds coefficients.
 _META = ("MDI_HEADER", "UNITS")
 
@@ -108,26 +115,30 @@ def _strip_comment(line):
     return line
 
 
+def number(text):
+    """The value of a number as the format writes it (a Fortran real: ``_NUMBER``), or None."""
+    if not _NUMBER.match(text):
+        return None
+    return float(text.replace("D", "E").replace("d", "e"))
+
+
 def _value(text, key, where):
     if text[:1] in "'\"":
         if len(text) < 2 or text[-1] != text[0]:
             raise TirFileError(f"{where}: unterminated string for {key}")
         return text[1:-1].strip()
-    try:
-        value = float(text)
-    except ValueError:
-        raise TirFileError(f"{where}: {key} = {text!r} is not a number") from None
+    value = number(text)
+    if value is None:
+        raise TirFileError(f"{where}: {key} = {text!r} is not a number (the format's numbers: "
+                           "1, -1.5, .5, 1.4e+000, 0.10D+01) nor a quoted string")
     if not math.isfinite(value):
         raise TirFileError(f"{where}: {key} = {text!r} is not finite")
     return value
 
 
 def _table_row(line, section, where):
-    try:
-        row = [float(x) for x in line.replace(",", " ").split()]
-    except ValueError:
-        row = []
-    if not row or not all(math.isfinite(x) for x in row):
+    row = [number(x) for x in line.replace(",", " ").split()]
+    if not row or None in row or not all(math.isfinite(x) for x in row):
         raise TirFileError(f"{where}: cannot read line {line!r} in table [{section}] "
                            "(expected numbers)")
     return row
@@ -137,8 +148,9 @@ def parse(text, name="<tir text>"):
     """Parses .tir text into a ``PropertyFile`` (units converted to SI)."""
     sections, tables, lines = {}, {}, {}
     section = None
-    for number, raw in enumerate(text.splitlines(), start=1):
-        where = f"{name}:{number}"
+    text = text.removeprefix("\ufeff")  # a UTF-8 byte-order mark
+    for line_number, raw in enumerate(text.splitlines(), start=1):
+        where = f"{name}:{line_number}"
         line = _strip_comment(raw).strip()
         if not line:
             continue
@@ -165,9 +177,10 @@ def parse(text, name="<tir text>"):
         if key in sections[section]:
             raise TirFileError(f"{where}: {key} is given twice in [{section}]")
         if not text_value:
-            continue  # KEY = (left empty): not given
+            raise TirFileError(f"{where}: {key} is given no value; write its value, or leave "
+                               "the line out to take the format's default")
         sections[section][key] = _value(text_value, key, where)
-        lines[(section, key)] = number
+        lines[(section, key)] = line_number
     for section, entries in sections.items():
         if section in _META:
             continue

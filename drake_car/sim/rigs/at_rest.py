@@ -154,7 +154,7 @@ def strut_load(built, root_context, side, law):
     prismatic, _ = car.strut_joints(side)
     reaction = plant.get_reaction_forces_output_port().Eval(context)[prismatic.index()]
     q = float(prismatic.get_translation(context))
-    geometry = strut_geometry(car.params.front)
+    geometry = strut_geometry(car.params.front, side)
     d = geometry["overlap_m"][0] + geometry["overlap_m"][1] * q
     offset = geometry["moment_arm_offset_m"][0] + geometry["moment_arm_offset_m"][1] * q
     axis = np.asarray(prismatic.translation_axis(), dtype=float)
@@ -163,7 +163,7 @@ def strut_load(built, root_context, side, law):
     m = np.asarray(reaction.rotational(), dtype=float) + offset * np.cross(axis, f)
     f_t, m_t = f - f.dot(axis) * axis, m - m.dot(axis) * axis
     n = normal_force(f_t, m_t, d, law.preload_force_N, law.mu_s, law.normal_force_form,
-                     axis=axis)
+                     axis=axis, mirrored=geometry["mirrored"])
     return q, d, f_t, m_t, float(n)
 
 

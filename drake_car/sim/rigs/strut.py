@@ -86,8 +86,7 @@ class StrutRigOptions:
         if abs(self.side_force_N) > MAX_SIDE_FORCE_N:
             raise ParameterError("side_force_N", self.side_force_N,
                                  f"must lie in [-{MAX_SIDE_FORCE_N:g}, {MAX_SIDE_FORCE_N:g}] N")
-        # The rod must stay in its guide: the overlap d = l - q stays above a quarter of l.
-        limit = min(MAX_STROKE_AMPLITUDE_M, 0.75 * front.guide_length_l_m)
+        limit = stroke_limit_m(front)
         if abs(self.stroke_amplitude_m) > limit:
             raise ParameterError("stroke_amplitude_m", self.stroke_amplitude_m,
                                  f"must lie in [-{limit:g}, {limit:g}] m (the rod leaves its "
@@ -120,6 +119,12 @@ class StrutRigOptions:
         w = 2 * math.pi * self.rotation_frequency_hz
         return (self.rotation_amplitude_rad * math.sin(w * t),
                 self.rotation_amplitude_rad * w * math.cos(w * t))
+
+
+def stroke_limit_m(front):
+    """The largest stroke the rig runs the strut at: the rod stays in its guide (the overlap
+    d = l - q above a quarter of l), and at most MAX_STROKE_AMPLITUDE_M."""
+    return min(MAX_STROKE_AMPLITUDE_M, 0.75 * front.guide_length_l_m)
 
 
 def corner_side_force_N(front, vertical_load_N, lateral_load_N=0.0):

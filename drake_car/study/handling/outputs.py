@@ -1,7 +1,7 @@
 """The handling study's files: each run's own, the series as CSV, the numbers as JSON, the
 figures (``figures``); ``summary`` is what summary.json holds."""
 
-from drake_car.results.diagram import write_diagram_svg
+from drake_car.results.files import write_diagram_svg
 from drake_car.results.files import write_csv, write_json, write_run
 from drake_car.study.handling import tyre_section
 from drake_car.study.handling.figures import crosscheck_figures, handling_figures

@@ -32,7 +32,9 @@ def claim_measures(table: dict, roles: dict):
     ``table`` ((subject, outcome) -> {"value", "error", "converged", "unit", "steps_s",
     "values", ...}: ``outcomes.study_outcomes`` refined, or at one step) and ``roles`` (name ->
     (case, FrictionSet)). Each: {name, value, unit (m rad N fraction ratio count), relation,
-    threshold, runs, decides, error, converged, margin, holds, decided}. A maximum (minimum)
+    threshold, runs, decides, error, converged, margin, holds, decided, limited_by}. A
+    row's error is its budget: the step's error plus the solver's (``sweep.refine``), and
+    limited_by the larger of the two. A maximum (minimum)
     over runs is taken over each run's own value; its error is the largest of theirs
     (|max x - max y| <= max |x - y|), converged only if every run's is. Verdict: all
     ``decides`` ones hold; decided only if each is converged and its margin exceeds its error
@@ -48,7 +50,10 @@ def claim_measures(table: dict, roles: dict):
           threshold_error=0.0):
         rows = [(s, table[(s, o)]) for s in subjects for o in outcomes if (s, o) in table]
         subject, row = how(rows, key=lambda r: abs(r[1]["value"]))
-        errors = [r["error"] for _, r in rows]
+        errors = [None if r["error"] is None else r["error"] + (r.get("solver_error") or 0.0)
+                  for _, r in rows]
+        worst = max(rows, key=lambda r: r[1]["error"] + (r[1].get("solver_error") or 0.0)
+                    if r[1]["error"] is not None else -1.0)[1]
         converged = [r["converged"] for _, r in rows]
         out = {"name": name, "value": abs(float(row["value"])), "unit": row["unit"],
                "relation": relation, "threshold": None if threshold is None else
@@ -56,7 +61,8 @@ def claim_measures(table: dict, roles: dict):
                "decides": bool(decides and relation is not None),
                "error": None if None in errors else max(errors) + threshold_error,
                "converged": None if None in converged else all(converged),
-               "steps_s": row["steps_s"], "values": row["values"]}
+               "steps_s": row["steps_s"], "values": row["values"],
+               "limited_by": worst.get("limited_by")}
         return _judged(out)
 
     everyone = [n for k in sets.numbers for n in of[k]]

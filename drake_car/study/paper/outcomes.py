@@ -58,7 +58,8 @@ TOLERANCES = {
 }
 DRIVES = {k for k, v in TOLERANCES.items() if v[2]}
 COLUMNS = ("run", "outcome", "value", "error", "unit", "step_s", "converged", "tolerance",
-           "observed_order", "steps_tried_s", "values_by_step", "run_wall_s")
+           "observed_order", "steps_tried_s", "values_by_step", "run_wall_s", "solver_error",
+           "limited_by")
 
 
 def study_outcomes(columns: dict, roles: dict, timeline):
@@ -129,14 +130,16 @@ def at_one_step(values: dict, step_s=None):
     values as ``refine`` would give them, with converged and error None."""
     return {k: {"unit": unit, "tolerance": TOLERANCES[k[1]][0], "steps_s": [step_s],
                 "values": [value], "value": value, "error": None, "converged": None,
-                "observed_order": None, "step_s": step_s}
+                "observed_order": None, "step_s": step_s, "solver_error": None,
+                "limited_by": None}
             for k, (value, unit) in values.items()}
 
 
 def write_outcomes(path, outcomes: dict, run_wall_s=None):
     """``outcomes.csv``: one row per run (or pair) and outcome, in ``COLUMNS``; converged is
     yes, no or "-" (not judged: a single step); the steps tried and the values at each are
-    ";"-joined."""
+    ";"-joined; solver_error is the solver axis' (``sweep.refine``; nan without one) and
+    limited_by the axis whose error is the larger ("-" without an error)."""
     rows = sorted(outcomes.items())
     wall = run_wall_s or {}
     columns = {
@@ -154,7 +157,10 @@ def write_outcomes(path, outcomes: dict, run_wall_s=None):
                           for _, r in rows],
         "values_by_step": [";".join(repr(float(v)) for v in r["values"]) for _, r in rows],
         "run_wall_s": [float(sum(wall.get(n, float("nan")) for n in s.split("|")))
-                       for (s, _), _ in rows]}
+                       for (s, _), _ in rows],
+        "solver_error": [float("nan") if r.get("solver_error") is None
+                         else float(r["solver_error"]) for _, r in rows],
+        "limited_by": [r.get("limited_by") or "-" for _, r in rows]}
     assert tuple(columns) == COLUMNS
     write_csv(path, columns)
 
@@ -176,5 +182,6 @@ def read_outcomes(path):
             "observed_order": num("observed_order"),
             "steps_s": [float(s) for s in steps.split(";") if s],
             "values": [float(v) for v in values.split(";") if v],
-            "run_wall_s": num("run_wall_s")}
+            "run_wall_s": num("run_wall_s"), "solver_error": num("solver_error"),
+            "limited_by": None if c["limited_by"][i] == "-" else str(c["limited_by"][i])}
     return out

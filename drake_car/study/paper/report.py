@@ -4,10 +4,9 @@ and claims (pure: no simulation, no files).
 The report is written for a reader of the paper: it defines its terms first (sets, cases,
 phases, places, thresholds, peak and steady), gives every verdict beside its threshold, links
 each claim to the figure that shows it, and gives every deciding number from ``outcomes.csv``
-(each run's outcomes refined until they converge: ``sweep.refine``) with its numerical error,
-the same run's difference between its last steps, or "not converged" with the values at each
-step; a verdict whose margin does not exceed its error is "undecided at the finest step tried".
-"""
+(``sweep.refine``) with its numerical error (the step's plus the solver's) or "not converged"
+with the values at each step; a verdict whose margin does not exceed its error is "undecided
+at the finest step tried"."""
 
 import dataclasses
 
@@ -137,8 +136,7 @@ def _terms(s):
     lines = _car_section(s) + ["## Sets and cases, and the terms used", ""] + _set_lines(s)
     for case, what in s["cases"].items():
         lines.append(f"- **case {case}**: {what}")
-    ph, pl = s["phases_s"], s["places_s"]
-    tl = s["timeline_s"]
+    ph, pl, tl = s["phases_s"], s["places_s"], s["timeline_s"]
     lines += [
         f"- **phases** (on every figure): I {_span(ph['I'])}, at rest ({tl['settle_s']:g} s) "
         f"then the speed-up to {tl['speed_kph']:g} km/h; II {_span(ph['II'])}, straight at "
@@ -169,8 +167,11 @@ def _terms(s):
             "Converged: the last two differences are within the tolerance and shrink as a "
             "first-order scheme's do; the error is then the last difference. A maximum over "
             "runs is taken over each run's own converged value, its error the largest of "
-            "theirs: a run is only ever compared with itself. A verdict is decided only where "
-            "its margin exceeds that error; \"n × the error\" says by how much.")
+            "theirs: a run is only ever compared with itself. The error adds the solver's: "
+            "each run's twin at its finest step with SAP's tolerance loosened twice moves it "
+            "by that much (\"solver\" where that is the larger part; step differences within "
+            "it need not shrink). A verdict is decided only where its margin exceeds that error; \"n × "
+            "the error\" says by how much.")
     else:
         lines.append("- **numerical error**: not estimated (one step only, --no_verify).")
     return lines + [""]

@@ -67,8 +67,9 @@ def numbers_table(s):
     for i, rows in enumerate(s["deciding_numbers"], start=1):
         for r in rows:
             threshold = threshold_text(r) if r["relation"] is not None else "-"
+            axis = " (solver)" if r.get("limited_by") == "solver" else ""
             error = ("-" if r["error"] is None else
-                     quantity(r["error"], r["unit"], True) if r["converged"] else
+                     quantity(r["error"], r["unit"], True) + axis if r["converged"] else
                      f"not converged (span {quantity(r['error'], r['unit'])})")
             margin = "-" if r["margin"] is None else \
                 f"{quantity(r['margin'], r['unit'])} = {flip(r)}"

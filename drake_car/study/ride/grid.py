@@ -16,19 +16,26 @@ measured); ``paper`` removes the viscous damping (Harlecki & Kubas' dry strut, D
 
 import dataclasses
 import functools
+import math
 import typing
 
 from pydrake.multibody.plant import MultibodyPlantConfig
 
-from drake_car.law.road.iso8608 import road_profile
+from drake_car.law.checks import ParameterError
+from drake_car.law.road.iso8608 import CLASS_GD_N0_M3, road_profile
 from drake_car.scene.load import SceneError, check_scene, load_scene
-from drake_car.scene.manoeuvres import Straight
+from drake_car.scene.manoeuvres import MAX_SPEED_KPH, Straight
 from drake_car.scene.scene import Friction
 from drake_car.law.friction.frd import StrutFrictionParameters
 
 # The paper's speed-up (section 4): 60 km/h in 3 s, 0.57 g, kept for every speed.
 SPEED_UP_KPH_PER_S = 20.0
 STRUTS = ("damper", "paper")
+# The road's length when the study does not give one: at least DEFAULT_ROAD_M (the length the
+# study's runs at up to ~135 km/h were made on, so their roads and run keys stay as they
+# were), longer where the fastest run needs it; a run needs its distance plus ROAD_MARGIN_M.
+DEFAULT_ROAD_M = 400.0
+ROAD_MARGIN_M = 10.0
 
 
 @dataclasses.dataclass
@@ -40,13 +47,39 @@ class RideStudy:
     mu_d_ratio: float = 0.75
     strut: str = "damper"
     seed: int = 2023
-    road_length_m: float = 400.0
+    road_length_m: float | None = None  # None: derived from the speeds (``road_m``)
     # after reaching speed: ``settle_window_s`` to let the speed-up's transients decay, then
     # ``window_s`` analysed
     settle_window_s: float = 1.0
     window_s: float = 6.0
     # the tracks' width for the road's coherence (m); None: the car's front track
     track_m: typing.Optional[float] = None
+
+    def check(self):
+        """Refuses (ParameterError naming the field) a road class ISO 8608 does not define, a
+        speed that is no passenger car's; every speed's run is then possible on ``road_m``."""
+        for road_class in self.classes:
+            if road_class not in CLASS_GD_N0_M3:
+                raise ParameterError("classes", road_class, "must be one of "
+                                     f"{', '.join(CLASS_GD_N0_M3)} (ISO 8608)")
+        for speed in self.speeds_kph:
+            if not 0 < speed <= MAX_SPEED_KPH:
+                raise ParameterError("speeds_kph", speed, f"must lie in (0, {MAX_SPEED_KPH:g}] "
+                                     "km/h (a passenger car)")
+        return self
+
+    def run_distance_m(self, speed_kph):
+        """How far a run at ``speed_kph`` drives: the speed-up, then the settling and the
+        analysed window at constant speed."""
+        return speed_kph / 3.6 * (0.5 * speed_up_s(speed_kph) + self.settle_window_s
+                                  + self.window_s)
+
+    def road_m(self):
+        """The road's length: ``road_length_m``, or derived from the fastest speed."""
+        if self.road_length_m is not None:
+            return self.road_length_m
+        need = max((self.run_distance_m(v) for v in self.speeds_kph), default=0.0)
+        return max(DEFAULT_ROAD_M, float(math.ceil(need + ROAD_MARGIN_M)))
 
 
 def base_scene(scene_text=None, scene=None):
@@ -92,7 +125,7 @@ def ride_scene(study: RideStudy, road_class, speed_kph, mu_s, *, half=False, bas
         steer_s=study.settle_window_s + study.window_s, calm_s=0.0)
     manoeuvre = dataclasses.replace(base.manoeuvre, timeline=timeline)
     track = base.car.front.track_m if study.track_m is None else study.track_m
-    road = _road(road_class, study.seed, study.road_length_m, track)
+    road = _road(road_class, study.seed, study.road_m(), track)
     car, friction = base.car, None
     if mu_s > 0:
         law = dataclasses.replace(StrutFrictionParameters(), mu_s=float(mu_s),
@@ -113,10 +146,12 @@ def ride_scene(study: RideStudy, road_class, speed_kph, mu_s, *, half=False, bas
                                 manoeuvre=manoeuvre, road=road, car=car, friction=friction,
                                 plant=plant, logging=logging)
     scene = check_scene(scene, f"ride study {scene.name}")
-    distance = timeline.speed_mps * (0.5 * timeline.speed_up_s + timeline.steer_s)
-    if distance + 10.0 > road.x_m[-1]:
-        raise ValueError(f"ride study: the road ({road.x_m[-1]:.0f} m) is shorter than the "
-                         f"run's {distance:.0f} m plus 10 m; raise road_length_m")
+    need = study.run_distance_m(speed_kph) + ROAD_MARGIN_M
+    if study.road_m() < need:
+        raise ParameterError("road_length_m", study.road_m(), f"is shorter than the run "
+                             f"at {speed_kph:g} km/h needs ({need:.0f} m: its distance plus "
+                             f"{ROAD_MARGIN_M:g} m); give at least that, or none (derived "
+                             "from the speeds)")
     return scene
 
 
@@ -130,6 +165,7 @@ def ride_scenes(study: RideStudy, order=None, scene_text=None, scene=None):
     """{name: scene} of every run and its half-step twin; ``order``: a list of (class, speed)
     to run first (the rest follow); ``scene`` and ``scene_text`` laid over the base scene
     (``base_scene``)."""
+    study.check()
     base = base_scene(scene_text, scene)
     cells = [(c, v) for v in study.speeds_kph for c in study.classes]
     if order:

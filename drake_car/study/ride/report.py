@@ -208,7 +208,7 @@ def write_outputs(out, rows, runs, study, wall_s):
         f"{len(rows)} runs, each with its half-step twin ({2 * len(rows)} simulations); "
         f"analysis wall time {wall_s:.0f} s. Road: ISO 8608 (law/road/iso8608.py), one seed "
         f"({study.seed}) for every class and speed (class B is class A's road doubled, C is "
-        f"B's doubled), {study.road_length_m:g} m, 0.05 m samples, 0.011-2.83 cycles/m, two "
+        f"B's doubled), {study.road_m():g} m, 0.05 m samples, 0.011-2.83 cycles/m, two "
         f"tracks {track:g} m apart (the car's front track) with the isotropic coherence. The "
         f"speed profile asks {SPEED_UP_KPH_PER_S / 3.6 / 9.81:.2f} g up to the speed, then "
         f"{study.settle_window_s:g} s settles and {study.window_s:g} s is analysed; in the "
