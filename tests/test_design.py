@@ -17,8 +17,10 @@ from drake_car.data import resource
 from drake_car.law.road.profiles import CosineBump
 from drake_car.scene.load import SceneError, scene_hash
 from drake_car.study.design import jam_cases
+from drake_car.study.design import answers as design_answers
 from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as design_runs
+from drake_car.study.design import smoke as design_smoke
 from drake_car.study.design import tables
 from drake_car.study.design.spec import (
     OUTCOMES, Accuracy, Mitigation, load_study, outcomes, paper_value, rough_road, with_value)
@@ -148,16 +150,16 @@ def test_mitigations_are_ranked_state_by_state_and_only_beyond_the_noise():
     assert table[1]["paired"]["median"] == pytest.approx(-0.9)
     assert table[1]["paired"]["share_lower"] == 1.0
     assert table[1]["paired"]["sign_test_p"] == pytest.approx(2 / 2 ** 8)
-    text = design_report._mitigation_answer(table, noise=0.09)  # a - b = -0.05: noise
+    text = design_answers._mitigation_answer(table, noise=0.09)  # a - b = -0.05: noise
     assert "not separable" in text and "higher: c" in text
-    assert "The best: a" in design_report._mitigation_answer(table, noise=0.01)
+    assert "The best: a" in design_answers._mitigation_answer(table, noise=0.01)
     mixed = [x - 0.9 if k % 2 else x - 0.5 for k, x in enumerate(base)]  # half the states
     table = tables.mitigation_table(study, rows("baseline", base) + rows("a", a)
                                     + rows("b", mixed) + rows("c", c), "baseline")
-    assert "not separable" in design_report._mitigation_answer(table, noise=0.01)
+    assert "not separable" in design_answers._mitigation_answer(table, noise=0.01)
     same = tables.mitigation_table(study, sum((rows(n, base) for n in ("baseline", *"abc")),
                                                []), "baseline")
-    assert "None lowers the split" in design_report._mitigation_answer(same, noise=0.09)
+    assert "None lowers the split" in design_answers._mitigation_answer(same, noise=0.09)
 
 
 def test_mitigations_judge_each_state_against_its_runs_own_errors():
@@ -180,12 +182,12 @@ def test_mitigations_judge_each_state_against_its_runs_own_errors():
                                    {r["sample"]: r for r in rows("a", a, [1.7] * 4, "no")})
     assert jumping["share_lower"] == 0.0 and jumping["not_converged"] == 4
     # A median change within the states' median error is no improvement, whatever the noise.
-    assert not design_report._better(dict(paired, error_median=0.6, sign_test_p=0.01), 0.0)
-    assert design_report._better(dict(paired, sign_test_p=0.01), 1.0)
+    assert not design_answers._better(dict(paired, error_median=0.6, sign_test_p=0.01), 0.0)
+    assert design_answers._better(dict(paired, sign_test_p=0.01), 1.0)
 
 
 def test_jam_cases_are_the_refined_parts_runs_at_or_above_the_jam_mu_s():
-    study = design_runs.quick(STUDY)
+    study = design_smoke.quick(STUDY)[0]
     parts = {"map": design_runs.map_scenes(study), "line": design_runs.line_scenes(study),
              "mc": design_runs.monte_carlo_scenes(study),
              "mitigation": design_runs.mitigation_scenes(study)}
@@ -234,7 +236,7 @@ def test_a_map_s_boundary_is_drawn_no_finer_than_each_cell_s_error_and_names_ope
                          "split_change_rel_error": (0.2 if k == 1 else 0.0) / 100,
                          "split_change_rel_converged": "no" if k == 1 else "yes",
                          "split_change_rel_values": "0.009;0.011;0.009"})
-    text = design_report.boundary_lines(STUDY, spec, rows, "split_change_rel", 100.0, 1.0,
+    text = design_answers.boundary_lines(STUDY, spec, rows, "split_change_rel", 100.0, 1.0,
                                         "The lasting split")
     assert "(within the error)" in text and "(beyond it)" in text
     assert "Not converged at the finest step tried" in text and "+0.90 / +1.10 / +0.90" in text
@@ -243,7 +245,7 @@ def test_a_map_s_boundary_is_drawn_no_finer_than_each_cell_s_error_and_names_ope
     wide = [dict(r, split_change_rel=v / 100, split_change_rel_error=0.015,
                  split_change_rel_converged="yes")
             for r, v in zip(rows, [0.2, 0.3, 0.4] * 3)]
-    text = design_report.boundary_lines(STUDY, spec, wide, "split_change_rel", 100.0, 1.0,
+    text = design_answers.boundary_lines(STUDY, spec, wide, "split_change_rel", 100.0, 1.0,
                                         "The lasting split")
     assert text.count("from already at μs = 0.05 (within the error) to nowhere in the range "
                       "(beyond it)") == 3
@@ -266,12 +268,12 @@ def test_answers_say_when_no_pull_was_measured():
     study = dataclasses.replace(STUDY, maps=[], mitigations=[])
     jam = {"runs": 3, "split": {"n": 3, "median": 0.5, "p90": 1.1, "share_above": 1 / 3},
            "pull": {"n": 0}}  # every run ended before the pull distance
-    (first,) = design_report.answers(study, [], None, jam, [], {})
+    (first,) = design_answers.answers(study, [], None, jam, [], {})
     assert "no pull measured" in first and "0.50 %" in first
 
 
 def test_the_study_s_runs():
-    quick = design_runs.quick(STUDY)
+    quick = design_smoke.quick(STUDY)[0]
     maps = design_runs.map_scenes(quick)
     assert len(maps) == sum(m.points ** 2 for m in quick.maps)
     lines = design_runs.line_scenes(STUDY)
@@ -313,11 +315,17 @@ def test_design_study_quick_end_to_end(tmp_path):
     study = out / "study"
     text = (out / "report.md").read_text()
     assert "## One factor at a time" in text and "## Accuracy where the struts jam" in text
+    # A smoke test says so on every page: the report's title, the answers, summary.json and
+    # stderr (the figures' titles: tests/test_your_car.py).
+    assert "(SMOKE TEST: not findings)" in text.splitlines()[0]
+    assert "Smoke test (--quick)" in result.stderr
+    assert "the paper's geometry" not in text
     for name in ("table.csv", "summary.json", "sobol.png", "monte_carlo.png", "lines.png",
                  "map0_split_change_rel.png", "map0_pull_deg.png"):
         assert (study / name).stat().st_size > 0, name
     summary = json.loads((study / "summary.json").read_text())
     assert summary["runs"]["failed"] == 0 and summary["answers"]
+    assert summary["smoke_test"]["changes"] and "not findings" in summary["smoke_test"]["note"]
     table = (study / "table.csv").read_text().splitlines()
     assert len(table) - 1 == summary["runs"]["total"]
     with open(study / "table.csv", newline="") as f:
@@ -345,7 +353,7 @@ def test_the_study_runs_on_another_tyre_file_laid_over_its_base_scene():
                        f"{{tyres: !MagicFormula {{tir_file: {sedan}}}}}")
     assert study.base.tyres.tir_file == str(sedan)
     assert study.base.friction.law.mu_s == STUDY.base.friction.law.mu_s  # the rest as it was
-    quick = design_runs.quick(study)
+    quick = design_smoke.quick(study)[0]
     scenes = [s for part in (design_runs.map_scenes(quick), design_runs.mitigation_scenes(quick))
               for s, _ in part.values()]
     assert scenes and all(s.tyres.tir_file == str(sedan) for s in scenes)

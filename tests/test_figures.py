@@ -19,7 +19,8 @@ from drake_car.study.paper.claims import evaluate_claims, place_values
 from drake_car.study.paper.measures import claim_measures, holds
 from drake_car.study.paper.outcomes import (
     at_one_step, read_outcomes, study_outcomes, write_outcomes)
-from drake_car.study.paper.report import CLAIM_FIGURES, _flip, quantity, report, summary
+from drake_car.study.paper.report import CLAIM_FIGURES, flip, quantity, report, summary
+from conftest import paper_scene
 from test_refine import _table
 from test_study import TIMELINE, study_of
 
@@ -28,7 +29,11 @@ VARIANTS = ({}, {"jammed_returns": True}, {"stays_put": True}, {"asymmetric_end"
 
 
 class FakeRun:
-    """What ``summary`` reads of a sim Run."""
+    """What ``summary`` reads of a sim Run: its record and its scene (the shipped study's run
+    of the same name, or ``scene``)."""
+
+    def __init__(self, name, scene=None):
+        self.scene = scene or paper_scene(name)
 
     def record(self):
         return {"wall_s": 1.0, "real_time_factor": 10.0, "frozen_sap_steps": 0,
@@ -55,7 +60,7 @@ def made(study, finer=(), figures=None, tmp_path=None):
         table = read_outcomes(tmp_path / "outcomes.csv")
     refinement = {"rounds": [], "wall_s": 12.0, "stopped": "every outcome converged",
                   "finest_step_s": 2.5e-4} if finer else None
-    s = summary(study, claims, shifts, TIMELINE, runs={n: FakeRun() for n in study},
+    s = summary(study, claims, shifts, TIMELINE, runs={n: FakeRun(n) for n in study},
                 outcomes=table, refinement=refinement,
                 figures=dict(FIGURES) if figures is None else figures, wall_s=3.0,
                 provenance={"command": "test", "git_commit": "0" * 40, "drake": "1.51",
@@ -99,9 +104,9 @@ def test_place_windows_are_what_place_values_averages():
 
 def test_a_margin_within_the_error_is_said_as_such():
     row = {"margin": 0.2, "error": 0.4, "converged": True, "unit": "m"}
-    assert _flip(row) == "**0.5 × the error** (within it)"
-    assert _flip(dict(row, error=0.01)) == "20 × the error"
-    assert _flip(dict(row, converged=False)) == "**not converged**"
+    assert flip(row) == "**0.5 × the error** (within it)"
+    assert flip(dict(row, error=0.01)) == "20 × the error"
+    assert flip(dict(row, converged=False)) == "**not converged**"
 
 
 def test_quantities_are_written_in_the_readers_units():
@@ -225,7 +230,8 @@ def test_the_report_says_which_claims_changed_against_the_previous_car_and_why()
     now = [{"reproduced": PREVIOUS_CAR[i][0]} for i in range(1, 7)]
     now[0]["reproduced"] = True  # claim 1: no before, yes now (this car)
     now[2]["reproduced"] = True  # claim 3: a change no measurement explains
-    rows = [line for line in previous_car_section({"claims": now}) if line.startswith("| ")]
+    rows = [line for line in previous_car_section({"claims": now, "paper_car": True})
+            if line.startswith("| ")]
     assert len(rows) == 1 + 6
     assert "pro-lift" in rows[1] and rows[1].count("|") == 6
     assert "not measured for this run's scenes" in rows[3]

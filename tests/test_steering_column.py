@@ -38,7 +38,7 @@ def test_the_rack_carries_the_wheels_reflected_inertia():
     held = dataclasses.replace(off, steering=HeldRack())
     s = off.steering
     expected = _rack_mass_matrix_entry(held) + s.steering_wheel_inertia_kgm2 / (
-        s.rack_gain_m_per_rad ** 2)
+        off.car.front.rack_gain_m_per_rad ** 2)
     frictionless = dataclasses.replace(off, steering=dataclasses.replace(s, friction_torque_Nm=0))
     for scene in (off, frictionless):
         np.testing.assert_allclose(_rack_mass_matrix_entry(scene), expected, rtol=1e-12,
@@ -65,7 +65,7 @@ def test_reflected_column_pulls_as_the_coupled_one():
         runner.advance_to(scene.end_time_s)
         histories[form] = runner.finish().history
     c, r = histories["coupler"], histories["reflected"]
-    dq = scene.steering.rack_gain_m_per_rad * COLUMN_LAW.dmax_rotation_rad
+    dq = scene.car.front.rack_gain_m_per_rad * COLUMN_LAW.dmax_rotation_rad
     rack_diff = np.max(np.abs(c["rack_m"] - r["rack_m"]))
     assert rack_diff <= dq, f"rack positions differ by {rack_diff:.3g} m > δq = {dq:.3g} m"
     held = c["t"] < hands_off_release_s(scene)

@@ -24,6 +24,7 @@ def synthetic(case, number, *, jammed_returns=False, asymmetric_end=0.0, rotatio
     h = {c: np.zeros_like(t) for c in RUN_COLUMNS if c != "phase"}
     h["t"] = t
     h["phase"] = [TIMELINE.phase(x) for x in t]
+    h["speed_mps"] = np.interp(t, [TIMELINE.settle_s, t2], [0.0, TIMELINE.speed_mps])
     for side, s in (("left", 1.0), ("right", -1.0)):
         dd = np.where(t < TIMELINE.settle_s, 0.01 * t / TIMELINE.settle_s, 0.01)
         if number < 3 or jammed_returns:  # return movement late in phase I

@@ -15,14 +15,26 @@ DIR/sweep/ (a rerun reuses every finished run):
 Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/: table.csv
 (one row per run), the maps, lines.png, sobol.png, monte_carlo.png and summary.json.
 
+Around your car: --scene FILE[:ENTRY] lays the values that scene states (your car, tyres,
+timeline, ...) over the study's base scene, --scene_text YAML over that; the maps' star is then
+at your car's values. --compare YAML is your design change (laid over the base scene): it runs
+against the car as it is on the flat road at each line μs (refined for its own error) and over
+the jam states, and the report answers what it does to the lasting split (N and %), the pull
+and the steering-wheel torque. --quick is a smoke test of every part, on a shortened study: it
+says so on every page (report, figure titles, summary.json, stderr) and its numbers are not
+findings.
+
   drake-car-design --out results/design          (80 min on this 2-core
       machine beside other work: 39 for its runs, 37 converging its jam cases)
   drake-car-design --out /tmp/design --quick     (a smoke run, ~2 min)
   drake-car-design --out results/design_sedan \
       --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
+  drake-car-design --out results/my_car --scene my_car.yaml:car \
+      --compare "car: {front: {spring_offset_m: 0.03}}"
 """
 
 import os
+import sys
 import time
 
 from drake_car.commands import cli
@@ -33,8 +45,11 @@ from drake_car.results.folder import OutputError, check_output_target, output_fo
 from drake_car.study.design import jam_cases
 from drake_car.study.design import resolved_runs as design_local
 from drake_car.study.design import analysis as design_analysis
+from drake_car.study.design import base_car
+from drake_car.study.design import compare as design_compare
 from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as runs_of
+from drake_car.study.design import smoke
 from drake_car.study.design import tables as design_tables
 from drake_car.study.design.spec import load_study
 from drake_car.sweep.runner import run_scenes, run_sweep
@@ -44,11 +59,19 @@ def main(argv=None):
     p = cli.parser(__doc__, name="design", cluster=True, out_help=(
         "the study's folder: its sweep's runs are added as they finish and "
         "reused by the same command again; the study's results are rewritten"),
+        scene=True, scene_help="your car: a scene FILE[:ENTRY] whose stated values are laid "
+        "over the study's base scene (default: the study's own base)",
         scene_text="YAML laid over the study's base scene, so over every run (e.g. another "
                    "tyre: \"{tyres: !MagicFormula {tir_file: FILE}}\")")
     p.add_argument("--study", default=f"{resource('scenes/studies/design.yaml')}:study",
                    help="the study's spec, FILE:ENTRY (default: %(default)s)")
-    p.add_argument("--quick", action="store_true", help="a smoke run of every part")
+    p.add_argument("--quick", action="store_true",
+                   help="a smoke test of every part on a shortened study (its timeline, "
+                        "samples and pull distance cut; said on every page): its numbers are "
+                        "not findings")
+    p.add_argument("--compare", default=None, metavar="YAML",
+                   help="your design change, laid over the base scene (e.g. \"car: {front: "
+                        "{spring_offset_m: 0.03}}\"): what it does, with its error")
     p.add_argument("--rerun_failed", action="store_true",
                    help="run the failed runs again (a rerun reuses them otherwise)")
     p.add_argument("--refine", choices=("local", "global"), default="local",
@@ -61,21 +84,34 @@ def main(argv=None):
                    "runs are refined and to what)")
     args = p.parse_args(argv)
     path, child = parse_scene_option(args.study)
-    study = load_study(path, child, args.scene_text or None)
+    study = load_study(path, child, args.scene_text or None,
+                       scene=parse_scene_option(args.scene) if args.scene else None)
+    study, adapted = base_car.adapted_base(study, stated=_stated(args))
+    if adapted:
+        print("The manoeuvre on your car: " + "; ".join(adapted) + ".", file=sys.stderr,
+              flush=True)
+    if args.compare is not None:
+        study = design_compare.with_compare(study, args.compare)
+    changes = None
     if args.quick:
-        study = runs_of.quick(study)
+        study, changes = smoke.quick(study)
+        print(f"{smoke.NOTE}\nWhat --quick changes: " + "; ".join(changes) + ".",
+              file=sys.stderr, flush=True)
     check_study_folder(args.out)
     began = time.perf_counter()
     parts = {"map": {name: (runs_of.hands_off(study, scene), values)
                      for name, (scene, values) in runs_of.map_scenes(study).items()},
              "line": runs_of.line_scenes(study), "sobol": runs_of.sobol_scenes(study),
              "mc": runs_of.monte_carlo_scenes(study), "mitigation": runs_of.mitigation_scenes(study)}
+    if args.compare is not None:
+        parts[design_compare.PART] = design_compare.compare_scenes(study, args.compare)
     if args.refine == "local" and not args.no_verify:  # every dry run resolves its events
         parts = {role: {name: (design_local.resolving(study, scene), values)
                         for name, (scene, values) in part.items()}
                  for role, part in parts.items()}
     named = {name: entry for part in parts.values() for name, entry in part.items()}
-    parts["noise"] = runs_of.noise_scenes(study, named, runs_of.noise_sample(study, parts))
+    sampled = {k: v for k, v in parts.items() if k != design_compare.PART}  # its own errors
+    parts["noise"] = runs_of.noise_scenes(study, named, runs_of.noise_sample(study, sampled))
     named |= parts["noise"]
     sweep_dir = args.out / "sweep"
     jam = {} if args.no_verify or args.refine == "local" else jam_cases.jam_scenes(study, parts)
@@ -84,8 +120,10 @@ def main(argv=None):
                           client=client, rerun_failed=args.rerun_failed)
         refined = None
         if jam:
-            print(f"accuracy on demand: {len(jam)} runs at μs >= {study.accuracy.jam_mu_s:g} "
-                  f"({', '.join(study.accuracy.parts)}) at 1/2 and 1/4 of their step, then "
+            print(f"accuracy on demand: {len(jam)} runs, at μs >= {study.accuracy.jam_mu_s:g} "
+                  f"({', '.join(study.accuracy.parts)})"
+                  + (" and --compare's at any μs" if design_compare.PART in parts else "")
+                  + " at 1/2 and 1/4 of their step, then "
                   f"halved where not converged, down to {1e3 * study.accuracy.finest_step_s:g} "
                   "ms", flush=True)
             refined = jam_cases.refine_jam_cases(
@@ -102,8 +140,11 @@ def main(argv=None):
     with output_folder(args.out / "study") as out:
         summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began,
                                           noise, design_local.summary(rows, study) if local
-                                          else jam_cases.summary(refined, rows, study))
+                                          else jam_cases.summary(refined, rows, study),
+                                          smoke=changes, adapted=adapted)
         summary["scene_text"] = args.scene_text or None
+        summary["scene"], summary["study_file"] = args.scene, args.study
+        summary["compare"] = design_compare.compare_summary(study, rows, args.compare, noise)
         write_csv(out / "table.csv", {k: [row[k] for row in rows] for k in rows[0]})
         write_json(out / "summary.json", summary)
     report = args.out / "report.md"
@@ -115,6 +156,15 @@ def main(argv=None):
         partial.unlink(missing_ok=True)
     print(f"{len(rows)} runs ({sweep['reused']} reused, {sweep['failed']} failed); wrote "
           f"{report}")
+
+
+def _stated(args):
+    """The manoeuvre keys the user's scene states (its file's text and --scene_text): a launch
+    or rack given there is run as given."""
+    text = args.scene_text or ""
+    if args.scene:
+        text += parse_scene_option(args.scene)[0].read_text(errors="replace")
+    return {key for key in ("speed_up_s", "amplitude_m", "second_lobe") if key in text}
 
 
 def check_study_folder(out):

@@ -1,6 +1,8 @@
 """The paper's study (Harlecki & Kubas, section 4): two lane changes at 60 km/h (a: left turn
-first, b: right turn first) × three strut friction sets, from the six scenes of
-scenes/paper_study.yaml. Writes into DIR:
+first, b: right turn first) × the strut friction sets, from the scenes of --scene (default: the
+paper's six, scenes/paper_study.yaml: three sets). Any number of sets runs, each in both cases:
+the claims about high friction judge the highest dry set and compare it with the others, and
+say which (study.paper.sets). Writes into DIR:
 
   <run>/history.csv, scene.yaml, run.json   each run as it ran (the scene with every value)
   <run>.csv               the study's columns of each run (Δd from static equilibrium, μ1, ...)
@@ -35,8 +37,9 @@ last round runs each run at its finest step with SAP's tolerance loosened twice
 margin exceeds it, else the report says "undecided at the finest step tried". Each round of
 runs goes as one sweep
 (``sweep.runner.run_scenes``: in parallel on one cluster for the whole job, a progress bar over
-the runs on a terminal): the first round is the six runs, their dt/2 and dt/4 repetitions and
-the six with the paper's drive. Options and scenes: --scene_text is laid over every run's scene (e.g.
+the runs on a terminal): the first round is the runs, their dt/2 and dt/4 repetitions and the
+same runs with the paper's drive. Options and scenes: --scene_text is laid over every run's
+scene (e.g.
 "plant: {time_step: 5e-4}" or "car: {front: {ball_joint_offset_b_m: 0.06}}"); the replay is
 added to one run's scene (so its saved scene says so).
 
@@ -173,11 +176,14 @@ def main(argv=None):
         write_json(out / "summary.json", s)
         (out / "report.md").write_text(report(s))
         claims = s["claims"]
-    failed = [c["claim"] for c in claims if not c["reproduced"]]
+    judged = [c for c in claims if c["reproduced"] is not None]
+    reproduced = sum(bool(c["reproduced"]) for c in judged)
     undecided = sum(c.get("decided") is False for c in claims)
-    print(f"{len(claims) - len(failed)} of {len(claims)} claims reproduced, {undecided} "
-          f"undecided at the finest step tried; wrote {args.out} "
-          f"(report: {args.out / 'report.md'})")
+    left_out = len(claims) - len(judged)
+    print(f"{reproduced} of {len(judged)} claims reproduced, {undecided} undecided at the "
+          "finest step tried" + (f", {left_out} not applicable to these friction sets"
+                                 if left_out else "")
+          + f"; wrote {args.out} (report: {args.out / 'report.md'})")
 
 
 def _unseen_halved(scene, halvings):

@@ -14,6 +14,8 @@ analysis uses every finished run of the chosen cells. Writes into DIR:
   runs/, index.csv, sweep.json   the sweep's runs (drake-car-sweep's layout)
 
   drake-car-ride --out DIR [--classes B,C] [--speeds 60] [--strut damper]
+  drake-car-ride --out DIR --scene my_car.yaml:car     (your car: the values its scene states
+                                                        laid over scenes/ride.yaml's ride)
 """
 
 import dataclasses
@@ -22,6 +24,7 @@ import time
 from drake_car.commands import cli
 from drake_car.law.checks import ParameterError
 from drake_car.results.files import files_into, read_csv
+from drake_car.scene.load import parse_scene_option
 from drake_car.study.ride.analysis import collect
 from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
 from drake_car.study.ride.report import write_outputs
@@ -54,9 +57,11 @@ def _list(text, kind, name):
 def main(argv=None):
     p = cli.parser(__doc__, name="ride", cluster=True, out_help=(
         "the study's sweep folder: its runs are added to it as they finish and "
-        "reused by the same command again (never replaced)"), scene_text=(
-        "YAML laid over the ride's base scene (scenes/ride.yaml), so over every run (e.g. "
-        "another car: \"car_file: cars/bmw_320i.yaml\")"))
+        "reused by the same command again (never replaced)"), scene=True, scene_help=(
+        "your car: a scene FILE[:ENTRY] whose stated values (car, tyres, ...) are laid over "
+        "the ride's base scene (scenes/ride.yaml: ride)"), scene_text=(
+        "YAML laid over the ride's base scene, so over every run (e.g. another car: "
+        "\"car_file: cars/bmw_320i.yaml\")"))
     p.add_argument("--classes", default="A,B,C", help="ISO 8608 road classes (default: A,B,C)")
     p.add_argument("--speeds", default="60,100", help="speeds in km/h (default: 60,100)")
     p.add_argument("--strut", default="damper",
@@ -75,8 +80,9 @@ def main(argv=None):
     except ParameterError as e:
         raise ParameterError(OPTIONS.get(e.key, e.key), e.value, e.requirement) from None
     scenes = {}
+    scene = parse_scene_option(args.scene) if args.scene else None
     for study in studies:
-        scenes.update(ride_scenes(study, scene_text=args.scene_text or None))
+        scenes.update(ride_scenes(study, scene_text=args.scene_text or None, scene=scene))
     check_sweep_folder(args.out)
     began = time.perf_counter()
     if not args.no_run:

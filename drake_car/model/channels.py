@@ -12,13 +12,14 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialAcceleration, SpatialVelocity
 from pydrake.systems.framework import LeafSystem
 
-from drake_car.model.geometry import SIDES
+from drake_car.model.geometry import SIDES, steering_sign
 
 # Channel groups computed here, with their columns (SI units in the names).
 CAR_CHANNELS = {
     "chassis": ("x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "yaw_rate_radps",
                 "speed_mps", "sideslip_rad", "ax_mps2", "ay_mps2"),
-    "steering": ("rack_m", "rack_force_N", "steer_fl_rad", "steer_fr_rad"),
+    "steering": ("rack_m", "rack_force_N", "steer_fl_rad", "steer_fr_rad",
+                 "steering_wheel_torque_Nm"),
     "struts": tuple(f"d_{s}_m" for s in SIDES) + tuple(f"rot_{s}_rad" for s in SIDES),
     "energy": ("kinetic_J", "potential_J"),
     "top_mounts": tuple(f"top_mount_{a}_{s}_m" for s in SIDES for a in "xyz"),
@@ -62,7 +63,11 @@ class CarChannels(LeafSystem):
     and lateral acceleration of the body origin in the heading frame (m/s², lateral to the
     left +). ``steering``: rack position (m, left +), the force the steering servo applies to
     the rack (N, the steering system's load), steer angles of the front wheels relative to the
-    body (rad, left +). ``struts``: overlap d = l - s of the left and right strut (m) and the
+    body (rad, left +), and the torque the driver holds at the steering wheel, the rack force
+    times the car's rack gain c (``front.rack_gain_m_per_rad``: T ω = F v with v = c ω; N m,
+    towards a left turn +: the rack's sign flipped for a rack behind the axle; unassisted
+    steering: no power assistance, the column's friction and the wheel's inertia not
+    included). ``struts``: overlap d = l - s of the left and right strut (m) and the
     rod's rotation in its cylinder (rad). ``energy``: the plant's kinetic energy and the
     potential energy of gravity and the coil springs (J), the SAP helpers' bodies
     (``helper_instances``: the pacer, the ballast; decoupled from the car) left out.
@@ -88,6 +93,10 @@ class CarChannels(LeafSystem):
         self._prismatic = [car.joint(f"strut_prismatic_{s}").position_start() for s in SIDES]
         self._revolute = [car.joint(f"strut_revolute_{s}").position_start() for s in SIDES]
         self._guide = float(car.params.front.guide_length_l_m)
+        # The steering wheel turns left (+) as the road wheels do: the rack the same way for a
+        # rack ahead of the axle, the other way behind it (geometry.steering_sign).
+        self._rack_gain = (float(car.params.front.rack_gain_m_per_rad)
+                           * steering_sign(car.params))
         self._mounts = []
         if "top_mounts" in groups:
             self._mounts = [car.joint(f"top_mount_{a}_{s}").position_start()
@@ -138,12 +147,12 @@ class CarChannels(LeafSystem):
     def _calc_steering(self, context, output):
         poses = self._poses.Eval(context)
         body = poses[self._chassis].rotation().matrix()
-        values = [self._state.Eval(context)[self._rack],
-                  self._actuation.Eval(context)[self._rack_actuator]]
+        force = self._actuation.Eval(context)[self._rack_actuator]
+        values = [self._state.Eval(context)[self._rack], force]
         for wheel in self._wheels:
             axis = body.T @ poses[wheel].rotation().matrix()[:, 1]  # spin axis in the body
             values.append(math.atan2(-axis[0], axis[1]))
-        output.SetFromVector(values)
+        output.SetFromVector(values + [force * self._rack_gain])
 
     def _calc_ride(self, context, output):
         rotation = self._poses.Eval(context)[self._chassis].rotation().matrix()

@@ -92,12 +92,14 @@ class FrontHardPoints:
     top_mount_body_kg: float = NAN
     top_mount_link_kg: float = NAN
     rack_stroke_m: float = NAN
+    rack_gain_m_per_rad: float = NAN  # rack travel per steering-wheel radian (c-factor)
 
     def check(self):
         for name in FRONT_POINTS:
             _point_check(self, name)
         positive(self, "guide_below_top_mount_m", "guide_length_l_m", "rod_radius_r_m",
-                 "wheel_rate_Npm", "rack_stroke_m", "top_mount_body_kg", "top_mount_link_kg")
+                 "wheel_rate_Npm", "rack_stroke_m", "top_mount_body_kg", "top_mount_link_kg",
+                 "rack_gain_m_per_rad")
         nonnegative(self, "strut_damping_Nspm", "anti_roll_bar_Nm_per_rad",
                     "top_mount_stiffness_Npm", "top_mount_damping_Nspm")
         p = {name: np.array(getattr(self, name), dtype=float) for name in FRONT_POINTS}
@@ -182,7 +184,7 @@ PART_MASSES = ("front_wheel_kg", "front_knuckle_kg", "front_lower_arm_kg", "pist
 FRONT_AS_GIVEN = ("guide_below_top_mount_m", "guide_length_l_m", "rod_radius_r_m",
                   "wheel_rate_Npm", "strut_damping_Nspm", "anti_roll_bar_Nm_per_rad",
                   "top_mount_stiffness_Npm", "top_mount_damping_Nspm", "top_mount_body_kg",
-                  "top_mount_link_kg", "rack_stroke_m")
+                  "top_mount_link_kg", "rack_stroke_m", "rack_gain_m_per_rad")
 
 
 @dataclasses.dataclass

@@ -221,6 +221,10 @@ class FrontSuspensionParameters:
         if not self.rod_radius_r_m < 0.05:
             raise ParameterError("rod_radius_r_m", self.rod_radius_r_m,
                                  "must be < 0.05 m (passenger-car rods: 10-14 mm)")
+        if not 0.002 <= self.rack_gain_m_per_rad <= 0.05:
+            raise ParameterError("rack_gain_m_per_rad", self.rack_gain_m_per_rad,
+                                 "must lie in [0.002, 0.05] m/rad (passenger-car steering: "
+                                 "rack travel per steering-wheel radian)")
         for name in ("spring_offset_m", "spring_offset_fore_aft_m"):
             if not abs(getattr(self, name)) < 0.1:
                 raise ParameterError(name, getattr(self, name),
@@ -240,6 +244,12 @@ class FrontSuspensionParameters:
     rack_half_length_m: float = 0.29
     rack_stroke_m: float = 0.07
     tie_rod_outer_m: typing.List[float] = _vector(0.15, 0.595, 0.2646)
+    # [EST] rack travel per steering-wheel radian (the pinion's pitch radius; 50 mm of rack per
+    # pinion turn, within the 40-55 mm of unassisted passenger-car racks: the 0.07 m stroke in
+    # 1.4 turns to lock). The steering wheel's torque is the rack's force times it; with the
+    # linkage's road-wheel angle per rack travel it sets the overall steering ratio
+    # (drake-car-handling reports it).
+    rack_gain_m_per_rad: float = 0.008
 
 
 @dataclasses.dataclass

@@ -37,9 +37,9 @@ COLUMN_LAW = StrutFrictionParameters(mu_s=1.0, mu_d=0.8, dv_rotation_radps=1e-3,
                                      dmax_rotation_rad=1e-3)
 
 
-def column_law_at_rack(hands_off):
-    """``COLUMN_LAW`` seen at the rack (the reflected form's translation pair)."""
-    c = hands_off.rack_gain_m_per_rad
+def column_law_at_rack(c):
+    """``COLUMN_LAW`` seen at the rack (the reflected form's translation pair); ``c``: the
+    car's rack gain (m of rack per steering-wheel radian)."""
     return dataclasses.replace(COLUMN_LAW, dv_translation_mps=c * COLUMN_LAW.dv_rotation_radps,
                                dmax_translation_m=c * COLUMN_LAW.dmax_rotation_rad)
 
@@ -51,6 +51,7 @@ def add_steering_column(plant, car, hands_off, *, scheme, form="reflected"):
     if form not in COLUMN_FORMS:
         raise ValueError(f"add_steering_column: form {form!r} must be one of {COLUMN_FORMS}")
     inertia = hands_off.steering_wheel_inertia_kgm2
+    gain = car.params.front.rack_gain_m_per_rad
     rack = car.joint("rack_slide")
     if form == "reflected":
         pairs = ([] if hands_off.friction_torque_Nm == 0
@@ -61,7 +62,7 @@ def add_steering_column(plant, car, hands_off, *, scheme, form="reflected"):
         # servo.
         rotor = pairs[-1].actuator if pairs else car.rack_actuator
         rotor.set_default_rotor_inertia(inertia)
-        rotor.set_default_gear_ratio(1.0 / hands_off.rack_gain_m_per_rad)
+        rotor.set_default_gear_ratio(1.0 / gain)
         return pairs
     instance = plant.AddModelInstance("steering_column")
     unit = UnitInertia(inertia / COLUMN_MASS_KG, inertia / COLUMN_MASS_KG,
@@ -70,22 +71,22 @@ def add_steering_column(plant, car, hands_off, *, scheme, form="reflected"):
                               SpatialInertia(COLUMN_MASS_KG, np.zeros(3), unit))
     joint = plant.AddJoint(RevoluteJoint("steering_column", car.body("chassis").body_frame(),
                                          body.body_frame(), [1.0, 0.0, 0.0]))
-    plant.AddCouplerConstraint(rack, joint, gear_ratio=hands_off.rack_gain_m_per_rad)
+    plant.AddCouplerConstraint(rack, joint, gear_ratio=gain)
     if hands_off.friction_torque_Nm == 0:
         return []
     return declare_pairs(plant, None, joint, scheme, prefix="steering_column")
 
 
-def column_strut(pairs, hands_off):
+def column_strut(pairs, hands_off, c):
     """The column's friction as a strut of the strut-friction system: its static torque
     μs N r = ``friction_torque_Nm`` (r = 1 m) on the column, or the force
-    ``friction_torque_Nm`` / c on the rack (the reflected form's translation pair)."""
+    ``friction_torque_Nm`` / c on the rack (the reflected form's translation pair; ``c`` the
+    car's rack gain)."""
     torque = hands_off.friction_torque_Nm
     if pairs[0].kind == "translation":
-        law = column_law_at_rack(hands_off)
+        law = column_law_at_rack(c)
         return Strut(pairs, "steering", rod_radius_m=1.0,
-                     constant_normal_force_N=torque / (hands_off.rack_gain_m_per_rad
-                                                       * law.mu_s),
+                     constant_normal_force_N=torque / (c * law.mu_s),
                      params=law)
     return Strut(pairs, "steering", rod_radius_m=1.0,
                  constant_normal_force_N=torque / COLUMN_LAW.mu_s, params=COLUMN_LAW)

@@ -42,6 +42,9 @@ MEANINGS = [
     (r"^a[xy]_mps2$", "acceleration of the body's origin in its heading frame (m/s²)"),
     (r"^rack_m$", "rack position (m, left +)"),
     (r"^rack_force_N$", "force the steering servo applies to the rack (N)"),
+    (r"^steering_wheel_torque_Nm$", "torque the driver holds at the steering wheel: the rack "
+                                    "servo's force times car.front.rack_gain_m_per_rad (N m, "
+                                    "towards a left turn +; no power assistance)"),
     (r"^steer_\w+_rad$", "road-wheel steer angle relative to the body (rad, left +)"),
     (r"^d_(left|right)_m$", "strut overlap d = l - s (m)"),
     (r"^dd_(left|right)_m$", "Δd: the strut overlap's change from static equilibrium (m, rod in +)"),

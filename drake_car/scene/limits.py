@@ -11,7 +11,10 @@ trust a checked scene.
 - The tyre file against the car: its FZMIN..FZMAX holds the car's wheel load at rest, and it
   has relaxation data when the scene takes them from the file (the file's own values, e.g.
   relaxation lengths > 0 over its load range, are checked once, when it is read:
-  ``law.tyre.plausibility``).
+  ``law.tyre.plausibility``). A ``combined_slip: true`` on a file without a combined-slip fit
+  (RBX1/RBY1 zero or absent) runs (it still acts through the aligning moment) but is said: a
+  warning, once per file in a process (``law.tyre.plausibility.combined_slip_note``), and a
+  line in every report.
 - The driver against the manoeuvre (``check_driver``): a ``!PathFollower`` only on a manoeuvre
   defined by a path, such a manoeuvre only with it, its chassis channels logged (its outcome is
   judged from them), the driver's period no shorter than the step, the body no narrower than
@@ -21,12 +24,14 @@ Every refusal is a ``ParameterError`` naming the key; ``check_scene`` adds where
 from.
 """
 
+import logging
 import math
 
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.law.checks import ParameterError
 from drake_car.law.tyre.magic_formula import magic_formula, relaxation_lengths_m
+from drake_car.law.tyre.plausibility import combined_slip_note
 from drake_car.law.tyre.slip import explicit_time_step_limit_s as tyre_time_step_limit_s
 from drake_car.model.anti_roll_bar import time_step_limit_s as bar_time_step_limit_s
 from drake_car.model.loading import read_tyre
@@ -40,6 +45,8 @@ INERT_PLANT_FIELDS = ("penetration_allowance", "stiction_tolerance", "contact_mo
                       "contact_surface_representation", "adjacent_bodies_collision_filters")
 # The largest step: the tyres' explicit coupling needs less (``check_limits`` gives the limit).
 MAX_TIME_STEP_S = 0.01
+log = logging.getLogger(__name__)
+_SAID = set()  # the combined-slip notes already given in this process
 
 
 def check_plant(plant: MultibodyPlantConfig):
@@ -103,6 +110,10 @@ def _check_tyre_file(scene):
             f"{tyre.FNOMIN:g} N); this car rests on about {wheel_N:.0f} N per wheel "
             f"({4 * wheel_N:.0f} N over four) and runs at about 0..{2 * wheel_N:.0f} N in a "
             "lane change: a tyre for a heavier vehicle")
+    note = combined_slip_note(tyre) if getattr(tyres, "combined_slip", False) else None
+    if note and note not in _SAID:
+        _SAID.add(note)
+        log.warning("tyres.combined_slip: true: %s", note)
     slip = tyres.slip
     if slip.relaxation and slip.relaxation_lengths_from_file:
         sigma = relaxation_lengths_m(tyre, wheel_N)

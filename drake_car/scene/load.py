@@ -51,9 +51,8 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
                text_origin="--scene_text") -> Scene:
     """A scene from ``path`` (its top-level entry ``child``; a file with one entry needs none),
     with ``scene_text`` laid on top; checked. ``base``: a Scene to start from instead of the
-    defaults (without ``path``). ``text_origin``: where ``scene_text`` came from, for errors."""
-    if base is not None and path is not None:
-        raise ValueError("load_scene: give a path or a base scene, not both")
+    defaults (the file's values, then the text's, laid over it: a study's base scene under a
+    user's scene file). ``text_origin``: where ``scene_text`` came from, for errors."""
     scene = Scene() if base is None else base
     where = "scene defaults"
     layers = []  # (where, raw YAML, typed-load arguments)

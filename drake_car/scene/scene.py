@@ -186,28 +186,23 @@ class HeldRack:
 @dataclasses.dataclass
 class HandsOff:
     """The rack held on the manoeuvre's command until ``release_s`` (None: the start of phase
-    IV, after the manoeuvre), then free: the steering wheel's inertia through the rack gain,
-    the steering system's friction, and the tyres' and the suspension's own centring
-    (aligning moments, caster and kingpin) move it, so a load imbalance shows as a drift of
-    the car's heading."""
+    IV, after the manoeuvre), then free: the steering wheel's inertia through the car's rack
+    gain (``car.front.rack_gain_m_per_rad``), the steering system's friction, and the tyres'
+    and the suspension's own centring (aligning moments, caster and kingpin) move it, so a
+    load imbalance shows as a drift of the car's heading."""
 
     release_s: typing.Optional[float] = None
     # [EST] steering wheel and column about the column: a 0.38 m wheel of ~1.4 kg rim and hub.
     steering_wheel_inertia_kgm2: float = 0.04
-    # [EST] rack travel per steering-wheel radian: ~0.07 m of rack over 1.4 turns to lock.
-    rack_gain_m_per_rad: float = 0.008
     # [EST] static friction of the unassisted column and rack at the steering wheel; a dry
     # contact (the FRD law, μd/μs = 0.8).
     friction_torque_Nm: float = 1.0
 
     def check(self):
-        positive(self, "steering_wheel_inertia_kgm2", "rack_gain_m_per_rad")
+        positive(self, "steering_wheel_inertia_kgm2")
         nonnegative(self, "friction_torque_Nm")
         if self.release_s is not None:
             positive(self, "release_s")
-        if not 0.002 <= self.rack_gain_m_per_rad <= 0.05:
-            raise ParameterError("rack_gain_m_per_rad", self.rack_gain_m_per_rad,
-                                 "must lie in [0.002, 0.05] m/rad (passenger-car steering)")
         return self
 
 

@@ -291,7 +291,8 @@ class _Column:
         return self.strut().params
 
     def strut(self):
-        return column_strut(self.pairs, self.scene.steering)
+        return column_strut(self.pairs, self.scene.steering,
+                            self.scene.car.front.rack_gain_m_per_rad)
 
 
 def _let_go(builder, plant, car, scene, column, wiring):

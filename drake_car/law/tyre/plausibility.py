@@ -22,6 +22,7 @@ HMMWV tyre has Kx < 0 above about 2.4 FNOMIN), which matters only if the car get
 """
 
 import math
+from pathlib import Path
 
 from drake_car.law.tyre.property_file import TirFileError
 
@@ -176,3 +177,27 @@ def wheel_load_note(tyre, wheel_loads_N):
             f"this car's static wheel loads are {loads}, outside the {FIT_LOAD_BAND[0]:g}.."
             f"{FIT_LOAD_BAND[1]:g} FNOMIN a fit is measured over [EST]: a tyre for another "
             "vehicle, its forces here extrapolate the fit's load dependence")
+
+
+def combined_slip_note(tyre):
+    """One line when the file has no combined-slip fit for Fx or Fy (RBX1 or RBY1 zero, or
+    absent and so 0), else None: combined slip then leaves that force at its pure-slip value
+    (the weighting G = 1), so ``combined_slip: true`` changes only what the file fits (the
+    other force's weighting, the κ-induced side force RVY*, the aligning moment's combined
+    terms) -- for a file with neither, the aligning moment alone."""
+    missing = [f"{key} ({'absent' if key in tyre.defaulted else 'given as 0'})"
+               for key in ("RBX1", "RBY1") if getattr(tyre, key) == 0.0]
+    if not missing:
+        return None
+    weakened = {"RBX1": "the weakening of Fx by the slip angle",
+                "RBY1": "the weakening of Fy by the longitudinal slip"}
+    left = [weakened[k] for k in ("RBX1", "RBY1") if getattr(tyre, k) != 0.0]
+    side_force = any(getattr(tyre, k) != 0.0 for k in ("RVY1", "RVY2", "RVY3"))
+    acts = left + (["the κ-induced side force (RVY*)"] if side_force else []) + [
+        "the aligning moment's combined-slip terms"]
+    return (f"{Path(tyre.name).name} has no combined-slip fit for "
+            + " or ".join({"RBX1": "Fx", "RBY1": "Fy"}[m.split()[0]] for m in missing)
+            + f" ({', '.join(missing)}): combined slip leaves "
+            + ("them" if len(missing) == 2 else "it")
+            + " at the pure-slip value, so combined_slip: true acts only through "
+            + ", ".join(acts))

@@ -120,6 +120,8 @@ SOURCES = {
     "front.anti_roll_bar_Nm_per_rad": "[CR2] -K_tsf",
     "front.top_mount_*": "[EST] rigid; the shipped car's compliant-mount data",
     "front.rack_stroke_m": "[EST] as the shipped car's",
+    "front.rack_gain_m_per_rad": "[EST] as the shipped car's (no published c-factor of the "
+                                 "car's rack found)",
     "rear.track_m": "[CR2] T_r",
     "rear.wheel_rate_Npm": "[CR2] K_sr",
     "rear.wheel_damping_Nspm": "[CR2] K_sdr",
@@ -156,7 +158,7 @@ def car() -> HardPointCar:
         strut_damping_Nspm=FRONT_DAMPING_AT_WHEEL_NSPM,
         anti_roll_bar_Nm_per_rad=FRONT_ANTI_ROLL_NM_PER_RAD, top_mount_stiffness_Npm=0.0,
         top_mount_damping_Nspm=2000.0, top_mount_body_kg=0.5, top_mount_link_kg=0.05,
-        rack_stroke_m=0.07)
+        rack_stroke_m=0.07, rack_gain_m_per_rad=0.008)
     lift = TYRE_RADIUS_M - WHEEL_CENTRE_HEIGHT_M  # V's heights less the file's
     rear = RearSuspensionParameters(
         track_m=REAR_TRACK_M, pivot_ahead_of_axle_m=0.45, pivot_y_m=0.55,

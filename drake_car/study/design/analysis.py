@@ -6,11 +6,16 @@ import math
 
 from drake_car.results.provenance import provenance
 from drake_car.study.design.resolved_runs import resolution_fields
+from drake_car.study.design import answers
+from drake_car.study.design.base_car import shipped_profile
 from drake_car.study.design import figures
 from drake_car.study.design import report
 from drake_car.study.design import runs as runs_of
 from drake_car.study.design import tables
-from drake_car.study.design.spec import OUTCOMES, factor, outcomes, paper_value, value_of
+from drake_car.study.car.describe import car_facts
+from drake_car.study.design import smoke as smoke_test
+from drake_car.study.design.spec import (
+    OUTCOMES, car_value, factor, is_paper_car, outcomes, value_of)
 from drake_car.sweep.store import key_parts, load_run, read_status, run_key
 
 
@@ -35,12 +40,16 @@ def table(study, parts, sweep_dir):
     return rows
 
 
-def analyse(study, rows, out, sweep, wall_s, noise, acc=None):
+def analyse(study, rows, out, sweep, wall_s, noise, acc=None, smoke=None, adapted=()):
     """The study's summary (what ``design_report.report`` writes up); figures into ``out``.
     ``rows``: the table with every row's errors (``jam_cases.apply``); ``noise``: the half-step
     sample's levels (``tables.noise_levels`` of the rows before); ``acc``: the jam cases'
-    ``jam_cases.summary`` (None: not refined)."""
+    ``jam_cases.summary`` (None: not refined); ``smoke``: what ``--quick`` changed (None: the
+    study as specified), said on every figure and in the summary."""
     threshold = 100 * study.split_threshold
+    prefix = smoke_test.TITLE if smoke is not None else ""
+    car = car_facts(study.base)
+    star = "the paper's car" if is_paper_car(study) else "this car (the base scene's values)"
     outcomes_drawn = (("split_change_rel", 100.0, threshold,
                        "lasting front load split change [% of corner load]"),
                       ("pull_deg", 1.0, study.pull_threshold_deg,
@@ -55,12 +64,12 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None):
             unconverged = tables.map_flags(study, spec, part, f"{outcome}_converged", "no")
             name = f"map{i}_{outcome}.png"
             figures.heat_map(xs, ys, values, x_label=fx.label, y_label=fy.label,
-                             paper=(paper_value(study, fx), paper_value(study, fy)),
+                             paper=(car_value(study, fx), car_value(study, fy)),
                              threshold=limit, title=f"{fy.label} × {fx.label}",
                              path=out / name, value_label=unit, noise=errors,
-                             unconverged=unconverged)
+                             unconverged=unconverged, star_label=star, prefix=prefix)
             maps.append({"figure": name, "caption": f"{unit} over {fx.label} × {fy.label}; "
-                         "the star is the paper's car, the line the threshold; x marks cells "
+                         f"the star is {star}, the line the threshold; x marks cells "
                          "within their numerical error of it, a square cells not converged "
                          "at the finest step tried"})
     lines = tables.line_tables(study, [r for r in rows if r["role"] == "line"])
@@ -68,11 +77,11 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None):
         figures.lines(lines, study.line_mu_s, split_threshold=threshold,
                       pull_threshold=study.pull_threshold_deg,
                       noise=(100 * noise.get("split_change_rel", 0.0), noise.get("pull_deg", 0.0)),
-                      path=out / "lines.png")
+                      path=out / "lines.png", prefix=prefix)
     sobol_rows = [r for r in rows if r["role"] == "sobol"]
     sobol = tables.sobol_tables(study, sobol_rows)
     if sobol is not None:
-        figures.sobol_bars(sobol, out / "sobol.png")
+        figures.sobol_bars(sobol, out / "sobol.png", prefix=prefix)
     jam_label = f"jam states (μs {study.base.friction.law.mu_s:g})"
     jam_states = tables.group_summary(jam_label, [r for r in rows if r["role"] == "mc"], study)
     baseline = runs_of.mitigation_baseline(study)
@@ -84,9 +93,13 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None):
                                   and r["mitigation"] == m["mitigation"]]
     figures.distributions(cases, x_label="|lasting front load split change| [% of corner "
                           "load]", threshold=threshold, path=out / "monte_carlo.png",
-                          title="Jam states (Monte Carlo) and mitigations")
+                          title="Jam states (Monte Carlo) and mitigations", prefix=prefix)
     failed = [r["name"] for r in rows if r["status"] != "ok"]
-    return {"split_threshold": study.split_threshold,
+    return {"smoke_test": None if smoke is None else {"note": smoke_test.NOTE,
+                                                      "changes": list(smoke)},
+            "car": car, "paper_car": is_paper_car(study), "star": star,
+            "mu_s": study.base.friction.law.mu_s if study.base.friction else 0.0,
+            "split_threshold": study.split_threshold,
             "pull_threshold_deg": study.pull_threshold_deg,
             "pull_distance_m": study.pull_distance_m,
             "factors": report.factor_rows(study), "maps": maps, "lines": lines,
@@ -97,9 +110,10 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None):
             "mitigations": mitigations,
             "noise": {"pairs": sum(r["role"] == "noise" for r in rows), "levels": noise},
             "accuracy": acc,
-            "answers": report.answers(study, rows, sobol, jam_states, mitigations, noise,
+            "answers": answers.answers(study, rows, sobol, jam_states, mitigations, noise,
                                      lines),
-            "method": report.method(study),
+            "method": answers.method(study, adapted, shipped_profile()),
+            "manoeuvre_adapted": list(adapted),
             "runs": {"total": len(rows), "distinct": len({r["hash"] for r in rows}),
                      "reused": sweep["reused"], "failed": len(failed),
                      "sweep_wall_s": sweep["wall_s"],

@@ -1,6 +1,7 @@
-"""Figures of the design study: heat maps of 2-D slices with the paper's point and the
-threshold's boundary, the one-factor lines, the Sobol indices with their confidence intervals,
-the Monte-Carlo distributions with each mitigation's."""
+"""Figures of the design study: heat maps of 2-D slices with the study's car's point (its
+values: the user's car, or the paper's) and the threshold's boundary, the one-factor lines, the
+Sobol indices with their confidence intervals, the Monte-Carlo distributions with each
+mitigation's. ``prefix`` heads every title (the smoke test's "not findings")."""
 
 import matplotlib
 
@@ -11,7 +12,7 @@ import numpy as np  # noqa: E402
 
 def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
              value_label="lasting front load split change [% of corner load]", noise=None,
-             unconverged=None):
+             unconverged=None, star_label="the paper's car", prefix=""):
     """``values[j][i]`` at (xs[i], ys[j]), in %; the contour |value| = threshold (%) drawn;
     cells whose |value| is within their error ``noise`` (a number, or one per cell, in the
     values' unit) of the threshold marked x: the boundary there is not resolved; cells
@@ -37,21 +38,20 @@ def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
         jj, ii = np.nonzero(np.asarray(unconverged))
         ax.plot(np.asarray(xs)[ii], np.asarray(ys)[jj], "s", mfc="none", mec="k", ms=22)
         ax.plot([], [], "s", mfc="none", mec="k", ms=9, label="not converged")  # legend's
-    ax.plot(*paper, marker="*", color="gold", mec="k", ms=16, label="the paper's car",
-            ls="none")
+    ax.plot(*paper, marker="*", color="gold", mec="k", ms=16, label=star_label, ls="none")
     for j, y in enumerate(ys):
         for i, x in enumerate(xs):
             ax.text(x, y, f"{z[j, i]:+.1f}", ha="center", va="center", fontsize=7)
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
-    ax.set_title(title, fontsize=10)
+    ax.set_title(prefix + title, fontsize=10, color="tab:red" if prefix else "k")
     ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), fontsize=8, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def sobol_bars(rows_by_outcome, path):
+def sobol_bars(rows_by_outcome, path, prefix=""):
     """First-order and total indices with their 95 % intervals, one panel per outcome; an
     index whose interval is wider than itself is drawn hollow (not ranked on)."""
     fig, axes = plt.subplots(1, len(rows_by_outcome), figsize=(5.2 * len(rows_by_outcome), 4.2),
@@ -70,7 +70,7 @@ def sobol_bars(rows_by_outcome, path):
         ax.invert_yaxis()
         ax.axvline(0, color="k", lw=0.6)
         ax.set_xlabel("Sobol index")
-        ax.set_title(outcome, fontsize=9)
+        ax.set_title(prefix + outcome, fontsize=9, color="tab:red" if prefix else "k")
         ax.grid(alpha=0.3, axis="x")
     axes[0][0].legend(loc="upper left", bbox_to_anchor=(0.0, -0.15), fontsize=7, frameon=False)
     fig.tight_layout()
@@ -78,7 +78,7 @@ def sobol_bars(rows_by_outcome, path):
     plt.close(fig)
 
 
-def distributions(samples_by_case, *, x_label, threshold, path, title):
+def distributions(samples_by_case, *, x_label, threshold, path, title, prefix=""):
     """Empirical distribution functions of |outcome| per case (the Monte Carlo and each
     mitigation), the threshold marked."""
     fig, ax = plt.subplots(figsize=(7.5, 4.4))
@@ -93,7 +93,7 @@ def distributions(samples_by_case, *, x_label, threshold, path, title):
         ax.text(threshold, 0.02, f" threshold {threshold:g}", fontsize=7)
     ax.set_xlabel(x_label)
     ax.set_ylabel("share of runs at or below")
-    ax.set_title(title, fontsize=10)
+    ax.set_title(prefix + title, fontsize=10, color="tab:red" if prefix else "k")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
     fig.tight_layout()
@@ -101,7 +101,8 @@ def distributions(samples_by_case, *, x_label, threshold, path, title):
     plt.close(fig)
 
 
-def lines(line_tables, mu_s_values, *, split_threshold, pull_threshold, noise, path):
+def lines(line_tables, mu_s_values, *, split_threshold, pull_threshold, noise, path,
+          prefix=""):
     """One row per line (a factor varied alone): the lasting split (%) and the pull (deg) at
     each of the factor's values, in the spec's order and evenly spaced (a value such as 0 for
     a rigid mount has no place on a linear axis), a curve per μs; the thresholds dashed, the
@@ -136,6 +137,8 @@ def lines(line_tables, mu_s_values, *, split_threshold, pull_threshold, noise, p
                frameon=False)
     axes[0][0].set_title("lasting front load split change (dashed: threshold)", fontsize=9)
     axes[0][1].set_title("heading change hands off (dashed: threshold)", fontsize=9)
-    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    if prefix:
+        fig.suptitle(prefix.rstrip(": "), color="tab:red", fontsize=10)
+    fig.tight_layout(rect=(0, 0.05, 1, 0.95 if prefix else 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -29,9 +29,10 @@ YES_NO = {True: "yes", False: "no", None: "-"}
 
 def jam_scenes(study, parts):
     """name -> scene of the runs refined: those of ``study.accuracy.parts`` whose μs is at
-    least ``jam_mu_s`` (``parts``: role -> {name: (scene, values)})."""
+    least ``jam_mu_s``, and every run of the user's change (``parts["compare"]``: its answer
+    carries its own error at any μs) (``parts``: role -> {name: (scene, values)})."""
     a = study.accuracy
-    scenes = {}
+    scenes = {name: scene for name, (scene, _) in parts.get("compare", {}).items()}
     for role in a.parts:
         for name, (scene, _) in parts.get(role, {}).items():
             if scene.friction is not None and scene.friction.law.mu_s >= a.jam_mu_s * (1 - 1e-9):
@@ -122,6 +123,7 @@ def summary(refined, rows, study):
                    for r in rows for key in DECIDING
                    if r["name"] in names and r.get(f"{key}_converged") == "no"]
     return {"jam_mu_s": a.jam_mu_s, "parts": list(a.parts),
+            "compare": any(part == "compare" for part in by_part),
             "tolerances": tolerances(study), "finest_step_s": a.finest_step_s,
             "budget_s": a.budget_s, "runs": len(names), "by_part": by_part,
             "failed": list(refined.failed), "not_converged": unconverged,
@@ -137,7 +139,9 @@ def report_lines(acc, figures=""):
     tol = acc["tolerances"]
     lines = ["## Accuracy where the struts jam", "",
              f"The {acc['runs']} runs of {', '.join(acc['parts'])} at μs ≥ "
-             f"{acc['jam_mu_s']:g} were repeated at half and a quarter of their step and halved "
+             f"{acc['jam_mu_s']:g}" + (" and of the user's change (--compare) at any μs"
+                                       if acc.get("compare") else "")
+             + " were repeated at half and a quarter of their step and halved "
              f"further, down to {1e3 * acc['finest_step_s']:g} ms, until the lasting split "
              f"agreed within {100 * tol['split_change_rel']:g} % of the corner load and the pull "
              f"within {tol['pull_deg']:g} deg (rounds: {len(acc['rounds'])}, "

@@ -1,13 +1,16 @@
 """The design study's report (pure): the Markdown that answers the study's question in plain
-words, from the summary ``design_analysis.analyse`` makes of the rows (``design_tables``)."""
+words (``answers``), from the summary ``design_analysis.analyse`` makes of the rows
+(``design_tables``): the car that ran (its base scene's), the answers, how it was made, the
+factors with this car's values, the maps, lines, Sobol indices, jam states and mitigations, the
+user's change (``--compare``), the accuracy. A smoke test (``--quick``) says so first."""
 
 import math
 
-import numpy as np
-
+from drake_car.study.car.describe import car_lines
+from drake_car.study.design.compare import compare_lines
 from drake_car.study.design.jam_cases import report_lines
 from drake_car.study.design.resolved_runs import report_lines as local_report_lines
-from drake_car.study.design.spec import factor, paper_value
+from drake_car.study.design.spec import car_value, factor, paper_value
 from drake_car.study.design.tables import map_grid
 
 
@@ -16,8 +19,8 @@ NOISE_UNITS = {"split_change_N": (1.0, "N"), "split_change_rel": (100.0, "% of t
                "stuck_left": (100.0, "% of the run"), "stuck_right": (100.0, "% of the run"),
                "dd_left_a_m": (1e3, "mm"), "dd_left_b_m": (1e3, "mm"),
                "dd_right_a_m": (1e3, "mm"), "dd_right_b_m": (1e3, "mm"),
-               "rack_force_change_N": (1.0, "N"), "pull_deg": (1.0, "deg"),
-               "pull_lateral_m": (1.0, "m")}
+               "rack_force_change_N": (1.0, "N"), "wheel_torque_change_Nm": (1.0, "N m"),
+               "pull_deg": (1.0, "deg"), "pull_lateral_m": (1.0, "m")}
 
 
 def _pct(share):
@@ -32,8 +35,13 @@ def report(s, figures=""):
     """Markdown of a design-study summary ``s`` (drake-car-design); ``figures``:
     the path of the figures and the table from where the report is written."""
     study_threshold = 100 * s["split_threshold"]
-    lines = ["# Where does strut friction change the wheel loads and the steering?", "",
-             f"Made by `{s['provenance']['command']}`, commit "
+    smoke = s.get("smoke_test")
+    lines = ["# Where does strut friction change the wheel loads and the steering?"
+             + (" (SMOKE TEST: not findings)" if smoke else ""), ""]
+    if smoke:
+        lines += [f"> **{smoke['note']}** What --quick changed: "
+                  + "; ".join(smoke["changes"]) + ".", ""]
+    lines += [f"Made by `{s['provenance']['command']}`, commit "
              f"{(s['provenance']['git_commit'] or 'unknown')[:10]}, {s['provenance']['created_utc']}; "
              f"{s['runs']['total']} rows of the table, {s['runs']['distinct']} distinct runs "
              f"({s['runs']['reused']} reused, {s['runs']['failed']} failed), "
@@ -43,26 +51,36 @@ def report(s, figures=""):
                 if (s.get("accuracy") or {}).get("wall_s") is not None else "") + ")"
              + (" (the dirty checkout's files, not the commit's)"
                 if s['provenance'].get('dirty') else "") + ".", "",
-             "## The question and the answer", "",
+             "## The car", "", *car_lines(s["car"]), "",
+             "## The question and the answer" + (" (smoke test: not findings)" if smoke else ""),
+             "",
              "A strut that sticks leaves the coil spring of its side loaded differently from the "
              "other side's after a manoeuvre: the car then carries its weight unequally on its "
              "front wheels, the tie rods pull unequally on the rack, and a car whose driver lets "
              "go of the wheel turns. The paper found this effect \"practically zero\" for its "
              f"car. Here it counts when the front left/right load split changes by more than "
-             f"{study_threshold:g} % of the static corner load, or when the car turns by more "
-             f"than {s['pull_threshold_deg']:g} deg over {s['pull_distance_m']:g} m hands "
-             "off.", ""]
+             f"{study_threshold:g} % of the static corner load "
+             f"({s['split_threshold'] * s['car']['corner_load_N']['front']:.0f} N on this car), "
+             f"or when the car turns by more than {s['pull_threshold_deg']:g} deg over "
+             f"{s['pull_distance_m']:g} m hands off.", ""]
     lines += [f"- {line}" for line in s["answers"]] + [""]
+    lines += compare_lines(s.get("compare"), smoke is not None)
     lines += ["## How it was made", ""]
+    if s.get("scene"):
+        lines += [f"- The base scene: the study's (`{s['study_file']}`) with the values of "
+                  f"`--scene {s['scene']}` laid over it, so over every run."]
     if s.get("scene_text"):
         lines += [f"- Laid over the study's base scene, so over every run (`--scene_text`): "
                   f"`{s['scene_text']}`."]
     lines += [f"- {line}" for line in s["method"]] + [""]
-    lines += ["## Factors and ranges", "", "| factor | range | the paper's car | why |",
-              "|---|---|---|---|"]
+    paper = "" if s.get("paper_car") else " | the paper's car"
+    lines += ["## Factors and ranges", "", f"| factor | range | this car{paper} | why |",
+              "|---|---|---|---|" + ("" if s.get("paper_car") else "---|")]
     for f in s["factors"]:
+        theirs = "" if s.get("paper_car") else f" {f['paper']:g} |"
+        outside = "" if f["low"] <= f["car"] <= f["high"] else " (outside the range)"
         lines.append(f"| {f['label']} (`{f['key']}`) | {f['low']:g} ... {f['high']:g} | "
-                     f"{f['paper']:g} | {f['reason']} |")
+                     f"{f['car']:g}{outside} |{theirs} {f['reason']} |")
     lines += ["", "## Maps", ""]
     for m in s["maps"]:
         lines.append(f"- `{figures}{m['figure']}`: {m['caption']}")
@@ -120,181 +138,8 @@ def report(s, figures=""):
 
 def factor_rows(study):
     return [{"key": f.key, "label": f.label or f.key, "low": f.low, "high": f.high,
-             "paper": paper_value(study, f), "reason": " ".join(f.reason.split())}
-            for f in study.factors]
-
-
-def _crossing(xs, values, threshold):
-    """The smallest x at which |value| exceeds ``threshold`` (linear between points), None
-    if none does, -inf if the first already does."""
-    v = np.abs(np.asarray(values, dtype=float))
-    above = np.flatnonzero(v > threshold)
-    if above.size == 0:
-        return None
-    i = int(above[0])
-    if i == 0:
-        return -math.inf
-    x0, x1, v0, v1 = xs[i - 1], xs[i], v[i - 1], v[i]
-    return x0 + (threshold - v0) / (v1 - v0) * (x1 - x0)
-
-
-def _where(x, xs, label):
-    return ("nowhere in the range" if x is None else
-            f"already at {label} = {xs[0]:.3g}" if x == -math.inf else f"{label} ≈ {x:.3g}")
-
-
-def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0):
-    """Plain words for a map's boundary: per row (y), where along x the outcome crosses the
-    threshold; with errors (each cell's ``<outcome>_error`` where the rows have it, else
-    ``noise``; in the outcome's scaled unit) > 0, where it surely exceeds it (|value| - error
-    above the threshold) against where it may (|value| + error above it): a boundary is not
-    drawn finer than the errors; the cells not converged are named with their values at each
-    step."""
-    fx, fy = factor(study, spec.x), factor(study, spec.y)
-    xs, ys, values = map_grid(study, spec, rows, outcome, scale)
-    errors = np.full(values.shape, float(noise))
-    if rows and f"{outcome}_error" in rows[0]:
-        errors = np.nan_to_num(map_grid(study, spec, rows, f"{outcome}_error", scale)[2])
-    parts = []
-    for j, y in enumerate(ys):
-        v = np.abs(values[j])
-        sure = _crossing(xs, np.maximum(v - errors[j], 0.0), threshold)
-        maybe = _crossing(xs, v + errors[j], threshold)
-        if sure != maybe:
-            where = (f"from {_where(maybe, xs, fx.label)} (within the error) to "
-                     f"{_where(sure, xs, fx.label)} (beyond it)")
-        else:
-            x = sure
-            where = _where(x, xs, fx.label) if x is None or x == -math.inf else \
-                f"from {fx.label} ≈ {x:.3g}"
-        parts.append(f"{fy.label} = {y:.3g}: {where}")
-    open_ = [f"{fx.label} {xs[k % len(xs)]:.3g}, {fy.label} {ys[k // len(xs)]:.3g} ("
-             + " / ".join(f"{scale * float(x):+.2f}" for x in r[f"{outcome}_values"].split(";"))
-             + ")" for k, r in enumerate(rows) if r.get(f"{outcome}_converged") == "no"]
-    return (f"{unit} beyond the threshold over {fx.label} × {fy.label}: " + "; ".join(parts)
-            + (f". Not converged at the finest step tried (values at each step): "
-               f"{'; '.join(open_)}" if open_ else ""))
-
-
-def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
-    """The study's answers in plain words, with numbers. ``jam_states``: the Monte Carlo's
-    ``group_summary``; ``mitigations``: ``mitigation_table``."""
-    lines = []
-    threshold = 100 * study.split_threshold
-    base = jam_states
-    if base["runs"]:
-        lines.append(
-            f"The study's car (the paper's geometry, μs = {study.base.friction.law.mu_s:g}) over "
-            f"{base['runs']} jam states: the lasting split change is {base['split']['median']:.2f} "
-            f"% (median; 90 % of states below {base['split']['p90']:.2f} %), above "
-            f"{threshold:g} % in {100 * base['split']['share_above']:.0f} % of them; "
-            + (f"the pull is {base['pull']['median']:.2f} deg (median), above "
-               f"{study.pull_threshold_deg:g} deg in {100 * base['pull']['share_above']:.0f} %."
-               if base["pull"].get("n") else
-               f"no pull measured (the runs ended before {study.pull_distance_m:g} m hands "
-               "off)."))
-    for i, spec in enumerate(study.maps):
-        rows = [r for r in table if r["name"].startswith(f"map{i}_")]
-        lines.append(boundary_lines(study, spec, rows, "split_change_rel", 100.0, threshold,
-                                    "The lasting split",
-                                    100.0 * noise.get("split_change_rel", 0.0)))
-        lines.append(boundary_lines(study, spec, rows, "pull_deg", 1.0,
-                                    study.pull_threshold_deg, "The pull",
-                                    noise.get("pull_deg", 0.0)))
-    for line in line_rows:
-        lines.append(_line_answer(study, line, threshold, noise))
-    if sobol is not None:
-        for outcome, rows in sobol.items():
-            ranked = [r for r in rows if r["resolved"]]
-            unresolved = [r["label"] for r in rows if not r["resolved"]]
-            text = ", ".join(f"{r['label']} (ST {r['ST']:.2f} ± {r['ST_conf']:.2f})"
-                             for r in ranked)
-            lines.append(f"What decides {outcome}: {text or 'no factor resolved'}"
-                         + (f"; not ranked (interval wider than the index): "
-                            f"{', '.join(unresolved)}" if unresolved else "") + ".")
-    if len(mitigations) > 1 and mitigations[0]["runs"]:
-        lines.append(_mitigation_answer(mitigations, 100 * noise.get("split_change_rel", 0.0)))
-    if noise:
-        lines.append("Numerical error: the runs where the struts jam carry their own (refined "
-                     "until they converge; see \"Accuracy where the struts jam\"); the others "
-                     "the half-step sample's largest change, up to "
-                     f"{100 * noise.get('split_change_rel', math.nan):.2f} % in the split and "
-                     f"{noise.get('pull_deg', math.nan):.2f} deg in the pull. Boundaries and "
-                     "rankings closer than their errors are not resolved.")
-    return lines
-
-
-def _better(paired, noise):
-    """A paired change that is a real improvement: lower in the median by more than the
-    states' median error (their runs' own errors; ``noise`` where the pairs have none), and in
-    more states than chance gives (sign test over the states resolved, p < 0.05)."""
-    limit = paired.get("error_median", noise)
-    return paired.get("median", math.inf) < -limit and paired.get("sign_test_p", 1.0) < 0.05
-
-
-def _mitigation_answer(mitigations, noise):
-    """Mitigations judged state by state against the baseline: one helps when it lowers the
-    |split| beyond the numerical noise (``noise``, %) and in more states than chance
-    (``_better``); among those, one is the best only if it is also better than each other
-    helper, state by state."""
-    base = mitigations[0]
-    ranked = sorted(mitigations[1:], key=lambda m: m["paired"].get("median", math.inf))
-    text = "; ".join(
-        f"{m['mitigation']}: median {m['split'].get('median', math.nan):.2f} %, "
-        f"{100 * m['split'].get('share_above', math.nan):.0f} % of states above the threshold, "
-        f"pull median {m['pull'].get('median', math.nan):.2f} deg; state by state "
-        f"{m['paired'].get('median', math.nan):+.2f} % (lower beyond the runs' errors in "
-        f"{100 * m['paired'].get('share_lower', math.nan):.0f} % of the states"
-        + (f", within them in {m['paired']['unresolved']}" if m['paired'].get('unresolved')
-           else "")
-        + (f", a run not converged in {m['paired']['not_converged']}"
-           if m['paired'].get('not_converged') else "") + ")"
-        for m in ranked)
-    helps = [m for m in ranked if _better(m["paired"], noise)]
-    worse = [m["mitigation"] for m in ranked if _better(
-        {"median": -m["paired"].get("median", -math.inf),
-         "sign_test_p": m["paired"].get("sign_test_p", 1.0)}, noise)]
-    best = [m for m in helps if all(_better(m["against"][o["mitigation"]], noise)
-                                    for o in helps if o is not m)]
-    if not helps:
-        verdict = "None lowers the split by more than the noise in more states than chance"
-    elif best:
-        verdict = f"The best: {best[0]['mitigation']}, also state by state against the others"
-    else:
-        a, b = helps[0], helps[1]
-        vs = a["against"][b["mitigation"]]
-        verdict = (f"{', '.join(m['mitigation'] for m in helps)} help, not separable from each "
-                   f"other state by state ({a['mitigation']} against {b['mitigation']}: "
-                   f"{vs['median']:+.2f} % median, lower in {100 * vs['share_lower']:.0f} % of "
-                   "the states)")
-    return (f"Mitigations over the same {base['runs']} states ({base['mitigation']}: split "
-            f"median {base['split'].get('median', math.nan):.2f} %, pull median "
-            f"{base['pull'].get('median', math.nan):.2f} deg): {text}. {verdict}. Lower than "
-            f"the baseline: {', '.join(m['mitigation'] for m in helps) or 'none'}; higher: "
-            f"{', '.join(worse) or 'none'} (beyond the states' median error, the runs' own "
-            "where refined, and a sign test at 5 %).")
-
-
-def _line_answer(study, line, threshold, noise):
-    parts = []
-    for mu_s in study.line_mu_s:
-        pts = [p for p in line["points"] if p["mu_s"] == mu_s]
-        split = [abs(p["split_pct"]) for p in pts]
-        pull = [abs(p["pull_deg"]) for p in pts]
-        spread = max(split) - min(split) if split else math.nan
-        errors = [p.get("split_pct_error", math.nan) for p in pts]
-        error = max([e for e in errors if math.isfinite(e)]
-                    or [100 * noise.get("split_change_rel", 0.0)])
-        resolved = spread > 2 * error
-        open_ = sum(p.get("split_pct_converged") == "no" for p in pts)
-        parts.append(f"at μs = {mu_s:g} the |split| runs {min(split):.2f} ... {max(split):.2f} % "
-                     f"({'beyond' if resolved else 'within'} its errors"
-                     + (f", {open_} not converged" if open_ else "")
-                     + f"; above {threshold:g} % at "
-                     f"{sum(v > threshold for v in split)} of {len(split)} values) and the "
-                     f"|pull| {min(pull):.2f} ... {max(pull):.2f} deg")
-    values = ", ".join(f"{v:g}" for v in _values(line))
-    return f"{line['label']} ({values}): " + "; ".join(parts) + "."
+             "car": car_value(study, f), "paper": paper_value(study, f),
+             "reason": " ".join(f.reason.split())} for f in study.factors]
 
 
 def _values(line):
@@ -309,7 +154,7 @@ def _line_section(s, figures):
     if not s.get("lines"):
         return []
     lines = ["", "## One factor at a time", "",
-             f"Hands off, at each μs, the other factors at the paper's values "
+             f"Hands off, at each μs, the other factors at this car's values "
              f"(`{figures}lines.png`): the lasting split [% of corner load] and the pull "
              f"[deg over {s['pull_distance_m']:g} m].", ""]
     for line in s["lines"]:
@@ -325,36 +170,3 @@ def _line_section(s, figures):
             lines.append(f"| {value:g} | " + " | ".join(cells) + " |")
         lines.append("")
     return lines
-
-
-def method(study):
-    t = study.base.manoeuvre.timeline
-    return [
-        f"Every run: the paper's lane change ({t.steer_s:g} s at {t.speed_kph:g} km/h, the "
-        f"calibrated rack profile scaled by the severity factor) from static equilibrium, with "
-        f"rest {t.settle_s:g} s, speed-up {t.speed_up_s:g} s, straight {t.straight_s:g} s and "
-        f"{t.calm_s:g} s after the manoeuvre (the paper's 0.8, 3.0, 1.2 and 2.6 s: shortened "
-        "to save time; the car starts at rest in static equilibrium, so the rest needs no "
-        "length of its own). Measured 2026-11-23 on the default study (8 Sobol points, 3 jam "
-        "states): a calm phase of 1.5 s instead of 2.6 s moves the lasting split by at most "
-        "0.03 % and the rack force by 2.1 N; 1.0 s would move the split by up to 3.5 % (the "
-        "car is still settling).",
-        f"The static equilibrium settled for {study.base.simulator.equilibrium_settle_s:g} s at "
-        f"{1e3 * (study.base.simulator.equilibrium_time_step_s or 1e-3):g} ms (the default: "
-        "6 s at 1 ms). Measured 2026-11-23 on the base scene and a Sobol point: against 6 s at "
-        "1 ms, 3 s moves the rods' rest overlap by 0.22 mm and the lasting split by 0.3 N "
-        "(of a 4 kN corner: 0.007 %); at 4 ms instead of 1 ms the 3 s settle moves them by "
-        "0.01 mm and 0.02 N more.",
-        f"μd = {study.mu_d_ratio:g} μs wherever μs varies (the paper's ratio).",
-        "Places a and b: the 0.3 s before the lane change and the last 0.5 s of the calm "
-        "phase after it, with hands on and off alike.",
-        "Hands off: the driver lets go where the calm phase ends; the pull is the heading "
-        f"change over the next {study.pull_distance_m:g} m; the steering wheel's inertia and "
-        "the column's friction as in scene.HandsOff.",
-        "Mitigations: compared over the same jam states at μs = "
-        f"{study.mitigation_mu_s if study.mitigation_mu_s is not None else study.base.friction.law.mu_s:g}"
-        ", against the car as it is there.",
-        f"Sobol: Saltelli's sample, {study.sobol_base_samples} base samples over "
-        f"{len(study.factors)} factors ({study.sobol_base_samples * (len(study.factors) + 2)} "
-        "runs), first-order and total indices with 95 % bootstrap intervals (SALib).",
-    ]

@@ -1,7 +1,7 @@
 """The design study's runs, as named scenes: the maps' points, Sobol's sample, the Monte Carlo
 of jam states with the driver letting go after the manoeuvre, each mitigation over the same
 Monte-Carlo states, and a sample repeated at half the step (the numerical noise). Pure: scenes
-in, scenes out; the sweep runs them."""
+in, scenes out; the sweep runs them. (The smoke test's shortened study: ``smoke.quick``.)"""
 
 import dataclasses
 
@@ -11,27 +11,6 @@ from drake_car.scene.load import load_scene
 from drake_car.scene.scene import HandsOff
 from drake_car.study.design.spec import rough_road, with_value
 from drake_car.study.design.sensitivity import map_points, sobol_points
-
-
-def quick(study):
-    """A smoke version of ``study`` (``--quick``): every phase shortened, 2 × 2 maps, the
-    smallest Sobol sample, 4 Monte-Carlo states, 2 per mitigation, 2 noise runs, each line's
-    first two values at one μs, the jam cases refined in one round (1/2 and 1/4 of the step)."""
-    t = study.base.manoeuvre.timeline
-    timeline = dataclasses.replace(t, settle_s=0.1, speed_up_s=0.6, straight_s=0.3,
-                                   steer_s=0.6, calm_s=0.5)
-    base = dataclasses.replace(study.base, manoeuvre=dataclasses.replace(
-        study.base.manoeuvre, timeline=timeline))
-    return dataclasses.replace(
-        study, base=base, maps=[dataclasses.replace(m, points=2) for m in study.maps],
-        sobol_base_samples=2, monte_carlo=dataclasses.replace(study.monte_carlo, samples=4,
-                                                              start_m=1.0, length_m=2.0,
-                                                              spacing_m=0.5),
-        mitigation_samples=2, noise_samples=2, pull_distance_m=2.0,
-        accuracy=dataclasses.replace(study.accuracy,
-                                     finest_step_s=study.base.plant.time_step / 4),
-        lines=[dataclasses.replace(line, values=line.values[:2]) for line in study.lines],
-        line_mu_s=study.line_mu_s[:1])
 
 
 def map_scenes(study):

@@ -20,7 +20,7 @@ from pydrake.common.yaml import yaml_load_typed
 from drake_car.law.road.profiles import SampledProfile
 from drake_car.law.checks import one_line
 from drake_car.scene.load import SceneError, check_scene, hands_off_release_s, load_scene
-from drake_car.scene.manoeuvres import speed_profile
+from drake_car.scene.manoeuvres import LaneChange, speed_profile
 from drake_car.scene.scene import HandsOff, Scene
 from drake_car.study.paper.claims import place_values
 
@@ -134,19 +134,32 @@ class DesignStudy:
     accuracy: Accuracy = dataclasses.field(default_factory=Accuracy)
 
 
-def load_study(path, child=None, scene_text=None) -> DesignStudy:
-    """The study at ``path`` (its entry ``child``), ``scene_text`` (YAML, e.g. another tyre:
-    ``"{tyres: !MagicFormula {tir_file: FILE}}"``) laid over its base scene and so over every
-    run's; checked: every factor's range, line and mitigation must still make valid scenes."""
+def load_study(path, child=None, scene_text=None, scene=None) -> DesignStudy:
+    """The study at ``path`` (its entry ``child``) around the user's car: the scene file
+    ``scene`` ((FILE, ENTRY or None): the values it states laid over the study's base scene)
+    and ``scene_text`` (YAML, e.g. another tyre: ``"{tyres: !MagicFormula {tir_file:
+    FILE}}"``) laid over that, so over every run's; checked: the base must change lanes (the
+    study's runs do), every factor's range, line and mitigation must still make valid
+    scenes."""
     try:
         study = yaml_load_typed(schema=DesignStudy, filename=str(path), child_name=child,
                                 defaults=DesignStudy())
     except Exception as e:
         raise SceneError(f"{path}: {one_line(e)}") from None
+    if scene is not None:
+        study = dataclasses.replace(study, base=load_scene(scene[0], child=scene[1],
+                                                           base=study.base))
     if scene_text:
         study = dataclasses.replace(study, base=load_scene(scene_text=scene_text,
                                                            base=study.base))
     check_scene(study.base, f"{path}: base")
+    if not isinstance(study.base.manoeuvre, LaneChange):
+        raise SceneError(f"{path}: base: the design study's runs change lanes (the paper's "
+                         "lane change, then hands off); its base scene's manoeuvre must be "
+                         f"!LaneChange, not !{type(study.base.manoeuvre).__name__} from "
+                         "--scene/--scene_text: give the car alone (a scene entry without a "
+                         "manoeuvre, or --scene_text \"{car_file: FILE, tyres: ...}\") or a "
+                         "!LaneChange")
     try:
         _check_values(study)
     except SceneError as e:
@@ -222,6 +235,19 @@ def paper_value(study, f: Factor):
     return value_of(study.base, f.key)
 
 
+def is_paper_car(study):
+    """Whether the study's base car is the shipped car on its shipped tyre (the paper's car as
+    this project models it; the base's strut damping aside, which the study sets)."""
+    from drake_car.study.car.describe import is_shipped_car, on_shipped_tyre
+    return is_shipped_car(study.base.car) and on_shipped_tyre(study.base)
+
+
+def car_value(study, f: Factor):
+    """The factor's value for the study's car, the base scene's (the user's car from --scene
+    or --scene_text, or the shipped one): where the maps draw their star."""
+    return value_of(study.base, f.key)
+
+
 def value_of(scene, key):
     """The value at a dotted key path of ``scene``."""
     value = scene
@@ -286,7 +312,7 @@ def rough_road(study: DesignStudy, sample: int) -> SampledProfile:
 
 OUTCOMES = ("split_change_N", "split_change_rel", "stuck_left", "stuck_right",
             "dd_left_a_m", "dd_left_b_m", "dd_right_a_m", "dd_right_b_m",
-            "rack_force_change_N", "pull_deg", "pull_lateral_m")
+            "rack_force_change_N", "wheel_torque_change_Nm", "pull_deg", "pull_lateral_m")
 
 
 def outcomes(history, scene: Scene, study: DesignStudy):
@@ -315,6 +341,13 @@ def outcomes(history, scene: Scene, study: DesignStudy):
                                                                     f"dd_{side}_m")
     fa, fb = place_values(columns, timeline, "rack_force_N")
     out["rack_force_change_N"] = fb - fa
+    # The torque the driver holds at the steering wheel: the rack force times the car's rack
+    # gain (the logged channel, or from the force where a history lacks it).
+    if "steering_wheel_torque_Nm" in columns:
+        ta, tb = place_values(columns, timeline, "steering_wheel_torque_Nm")
+        out["wheel_torque_change_Nm"] = tb - ta
+    else:
+        out["wheel_torque_change_Nm"] = (fb - fa) * scene.car.front.rack_gain_m_per_rad
     out["pull_deg"] = out["pull_lateral_m"] = math.nan
     if isinstance(scene.steering, HandsOff):
         release = hands_off_release_s(scene)

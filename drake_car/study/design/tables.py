@@ -77,6 +77,8 @@ def group_summary(name, rows, study, reason=""):
                                           r.get("pull_deg_converged")) for r in ok),
             "split": distribution_summary([100 * r["split_change_rel"] for r in ok],
                                           100 * study.split_threshold),
+            "split_N": distribution_summary([r["split_change_N"] for r in ok
+                                             if "split_change_N" in r], math.inf),
             "pull": distribution_summary([r["pull_deg"] for r in ok],
                                          study.pull_threshold_deg)}
 

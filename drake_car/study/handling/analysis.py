@@ -9,6 +9,7 @@ import time
 
 import numpy as np
 
+from drake_car.study.car.describe import drive_short
 from drake_car.model.geometry import (
     design_axle_loads_N, steering_sign, whole_car_cog_to_front_m)
 from drake_car.model.kinematics_sweep import run_kinematics_sweep
@@ -140,12 +141,15 @@ def analyse(runs, fit_range):
     step_metrics = handling.step_steer(hs, steer_rad=step_rack, cog_offset_m=a, mass_kg=mass)
     step_wheel = handling.step_steer(hs, steer_rad=handling.road_wheel_steer_rad(hs),
                                      cog_offset_m=a, mass_kg=mass)
+    gain = car.front.rack_gain_m_per_rad
     return {
         "fit_range_mps2": list(fit_range), "steering": steering,
+        "rack_gain_m_per_rad": gain, "steering_ratio": steering_ratio(steering, gain),
+        "steering_sign": steering_sign(car),
         "mass_kg": car.mass.total_mass_kg, "cog_offset_m": a, "wheelbase_m": L,
         "t_steer_s": {name: handling.first_time(r.history["phase"], r.history["t"], "III")
                       for name, r in runs.items()},
-        "drive": type(ramp.scene.drive).__name__,
+        "drive": drive_short(ramp.scene),
         "steady_state": {
             "metrics": metrics, "single_track": single,
             "yaw_gain_ratio": metrics["yaw_rate_gain_per_s"] / single["yaw_rate_gain_per_s"],
@@ -162,6 +166,18 @@ def analyse(runs, fit_range):
             "series": step_series(hs, step_rack, a, mass)},
         "budget": budget,
     }
+
+
+def steering_ratio(steering, rack_gain_m_per_rad):
+    """The overall steering ratio at the centre: the steering wheel's angle per road-wheel
+    angle, 1 / (c dδ/dq) with c the car's rack gain (m of rack per steering-wheel radian) and
+    dδ/dq the linkage's mean road-wheel angle per rack travel at q = 0 (the kinematics table,
+    chassis fixed)."""
+    rack = np.asarray(steering["rack_m"], float)
+    mean = np.radians(0.5 * (np.asarray(steering["steer_left_deg"])
+                             + np.asarray(steering["steer_right_deg"])))
+    slope = abs(float(np.interp(0.0, rack, np.gradient(mean, rack))))  # a rack behind: < 0
+    return 1.0 / (rack_gain_m_per_rad * slope) if slope else float("nan")
 
 
 def step_series(h, rack_steer, cog_offset, mass):

@@ -30,6 +30,8 @@ def report(result):
     lo, hi = result["fit_range_mps2"]
     v = m["speed_mps"]
     wall_parts = ", ".join(f"{k} {v:.1f} s" for k, v in walls.items() if k != "total")
+    torque_gradient = (m["rack_force_gradient_N_per_g"] * result["rack_gain_m_per_rad"]
+                       * result.get("steering_sign", 1.0))
     lines = [
         "# drake_car: handling (ISO 4138, ISO 7401), understeer budget, cross-check", "",
         f"Made by `{prov['command']}`; {prov['created_utc']}, drake {prov['drake']}, commit "
@@ -61,6 +63,11 @@ def report(result):
         f"| roll gradient | **{m['roll_gradient_deg_per_g']:.2f} deg/g** |",
         f"| sideslip gradient at the CoG | {m['sideslip_gradient_deg_per_g']:.2f} deg/g |",
         f"| rack-force gradient | {m['rack_force_gradient_N_per_g']:.0f} N/g |",
+        f"| steering-wheel torque gradient (rack force × c, unassisted) | "
+        f"{torque_gradient:.2f} N m/g |",
+        f"| overall steering ratio at the centre, 1/(c dδ/dq) | "
+        f"{result['steering_ratio']:.1f} : 1 (rack gain c = "
+        f"{1e3 * result['rack_gain_m_per_rad']:g} mm/rad, `car.front.rack_gain_m_per_rad`) |",
         f"| yaw-rate gain dr/dδ (rack) | {m['yaw_rate_gain_per_s']:.3f} 1/s = "
         f"**{ss['yaw_gain_ratio']:.3f} × single track** ({single['yaw_rate_gain_per_s']:.3f} 1/s)"
         " |",

@@ -11,10 +11,20 @@ import numpy as np  # noqa: E402
 from matplotlib.ticker import FuncFormatter, MultipleLocator  # noqa: E402
 
 from drake_car.study.paper.claims import (  # noqa: E402
-    CASES, DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, count_reaching, phase_one_return,
-    place_values, run_of)
+    CASES, DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, count_reaching, numbers_text,
+    phase_one_return, place_values, run_of, set_roles)
 
-SET_COLOUR = {1: "tab:blue", 2: "tab:orange", 3: "tab:green"}
+# The paper's three sets in its colours' order; more sets take matplotlib's next colours.
+_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown",
+            "tab:pink", "tab:gray", "tab:olive", "tab:cyan")
+
+
+def set_colour(number):
+    return _COLOURS[(number - 1) % len(_COLOURS)]
+
+
+def _numbers(study):
+    return set_roles(r.friction for r in study.values()).numbers
 CASE_LINE = {"a": "-", "b": "--"}
 PLACE_COLOUR = {"a": "tab:purple", "b": "tab:brown"}
 DPI = 110
@@ -29,12 +39,13 @@ CAPTION_16 = (
     "sticking; the paper counts two such times.")
 FIGURES = {
     "fig13.png": "Fig. 13: the steering rack's displacement in both cases",
-    "fig14_a.png": "Fig. 14a: Δd of the left strut, case a, sets 1-3, places a and b shaded "
+    "fig14_a.png": "Fig. 14a: Δd of the left strut, case a, every set, places a and b shaded "
                    "(claim 2)",
     "fig14_b.png": "Fig. 14b: Δd of the right strut, case a (claim 2)",
     "fig15_a.png": "Fig. 15a: Δd of the left strut, case b (claim 2)",
     "fig15_b.png": "Fig. 15b: Δd of the right strut, case b (claim 2)",
-    "fig16.png": "Fig. 16: β and μ1 of both struts, case a, set 2, μs marked (claim 6)",
+    "fig16.png": "Fig. 16: β and μ1 of both struts, case a, the dry set nearest the paper's "
+                 "μs = 0.2, μs marked (claim 6)",
     "claim1_return.png": "claim 1: the rods as the acceleration ends, until the lane change",
     "load_split.png": "claim 3: change of the left-right rod difference and of the front "
                       "load split from place a to b, per run",
@@ -100,7 +111,7 @@ def _right_label(ax, y, text, **style):
 def fig13(study, timeline, path):
     fig, ax = plt.subplots(figsize=(9, 3.8))
     for case in CASES:
-        h = run_of(study, case, 1).columns
+        h = run_of(study, case, _numbers(study)[0]).columns
         ax.plot(h["t"], 1e3 * h["rack_m"], CASE_LINE[case], label=f"case {case}")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("rack displacement [mm] (left +)")
@@ -112,13 +123,13 @@ def fig13(study, timeline, path):
 
 
 def fig_dd(study, timeline, case, side, path, title):
-    """Δd of one strut in one case for the three sets; places a and b shaded, each set's
+    """Δd of one strut in one case for every set; places a and b shaded, each set's
     average over them drawn across the band and listed beside the plot."""
     fig, ax = plt.subplots(figsize=(10, 4.4))
     rows = []
-    for number in (1, 2, 3):
+    for number in _numbers(study):
         run = run_of(study, case, number)
-        h, colour = run.columns, SET_COLOUR[number]
+        h, colour = run.columns, set_colour(number)
         ax.plot(h["t"], 1e3 * h[f"dd_{side}_m"], color=colour, lw=1.2, label=run.friction.label)
         values = place_values(h, timeline, f"dd_{side}_m")
         for (a, b), value in zip(place_windows(h, timeline).values(), values):
@@ -139,9 +150,13 @@ def fig_dd(study, timeline, case, side, path, title):
 
 
 def fig16(study, timeline, path):
-    """β and μ1 of both struts (case a, set 2), μs marked, phases on every panel, the terms
-    defined below."""
-    run = run_of(study, "a", 2)
+    """β and μ1 of both struts (case a, the dry set nearest the paper's μs = 0.2: its set 2),
+    μs marked, phases on every panel, the terms defined below; False (nothing written) when
+    no set is dry."""
+    number = set_roles(r.friction for r in study.values()).fig16
+    if number is None:
+        return False
+    run = run_of(study, "a", number)
     h, mu_s = run.columns, run.friction.mu_s
     fig, axes = plt.subplots(2, 2, figsize=(13, 6.2), sharex=True)
     for col, side in enumerate(("left", "right")):
@@ -164,6 +179,7 @@ def fig16(study, timeline, path):
     fig.subplots_adjust(wspace=0.28, hspace=0.3)
     fig.text(0.06, -0.02, CAPTION_16, fontsize=9, va="top", ha="left")
     _save(fig, path)
+    return True
 
 
 def claim1_return(study, timeline, path):
@@ -173,7 +189,7 @@ def claim1_return(study, timeline, path):
     window = (t2 - 0.3, t3)
     fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
     rows = []
-    for number in (1, 2, 3):
+    for number in _numbers(study):
         for case in CASES:
             run = run_of(study, case, number)
             h = run.columns
@@ -181,7 +197,7 @@ def claim1_return(study, timeline, path):
             rows.append(f"{run.name}  {1e3 * moved[0]:7.3f} {1e3 * moved[1]:7.3f}")
             for ax, side in zip(axes, ("left", "right")):
                 ax.plot(h["t"], 1e3 * h[f"dd_{side}_m"], CASE_LINE[case],
-                        color=SET_COLOUR[number], lw=1.1, label=f"{run.name} (set {number})")
+                        color=set_colour(number), lw=1.1, label=f"{run.name} (set {number})")
     for ax, side in zip(axes, ("left", "right")):
         ax.set_xlim(max(0.0, window[0] - 1.0), min(end, window[1] + 0.5))
         ax.axvspan(*window, color="tab:red", alpha=0.08, lw=0)
@@ -190,10 +206,13 @@ def claim1_return(study, timeline, path):
         _phases(ax, timeline)
     axes[0].legend(**OUTSIDE)
     axes[1].set_xlabel("t [s] (shaded: the window claim 1 is judged on)")
+    roles = set_roles(r.friction for r in study.values())
+    judged = ("" if roles.high is None else
+              f"\n\nclaim 1: set {roles.high} ≤ {1e3 * DISPLACEMENT_THRESHOLD_M:g} mm"
+              + (f",\n{numbers_text(roles.others)} > {1e3 * DISPLACEMENT_THRESHOLD_M:g} mm"
+                 if roles.others else ""))
     axes[1].text(1.01, 1.0, "movement in the window\n(max - min) [mm]\n"
-                 "      left    right\n" + "\n".join(rows) +
-                 f"\n\nclaim 1: set 3 ≤ {1e3 * DISPLACEMENT_THRESHOLD_M:g} mm,\n"
-                 f"sets 1-2 > {1e3 * DISPLACEMENT_THRESHOLD_M:g} mm",
+                 "      left    right\n" + "\n".join(rows) + judged,
                  transform=axes[1].transAxes, va="top", family="monospace", fontsize=7.5)
     axes[0].set_title("Claim 1: do the rods return when the acceleration ends?", pad=18)
     _save(fig, path)
@@ -215,7 +234,7 @@ def load_split(study, timeline, path, outcomes=None):
     span of its last steps) as an error bar and its values at every step as markers; without,
     the runs' values at their own step."""
     names = sorted(study)
-    h1 = run_of(study, "a", 1).columns
+    h1 = run_of(study, "a", _numbers(study)[0]).columns
     corner = 0.5 * (float(h1["Fz_fl_N"][0]) + float(h1["Fz_fr_N"][0]))
     values = np.array([_split_changes(study[n].columns, timeline, corner) for n in names])
     if outcomes is not None:
@@ -225,7 +244,7 @@ def load_split(study, timeline, path, outcomes=None):
             values[k, 1] = values[k, 2] * corner / 100
     fig, (rods, load) = plt.subplots(2, 1, figsize=(9, 6.4), sharex=True)
     x = np.arange(len(names))
-    colours = [SET_COLOUR[study[n].friction.number] for n in names]
+    colours = [set_colour(study[n].friction.number) for n in names]
     hatches = ["" if study[n].case == "a" else "//" for n in names]
     for ax, column in ((rods, 0), (load, 2)):
         for k in range(len(names)):
@@ -256,8 +275,8 @@ def load_split(study, timeline, path, outcomes=None):
     load.set_ylabel("change of Fz_fl - Fz_fr from a to b\n[% of the corner load]")
     load.set_xticks(x, names)
     load.set_xlabel("run (case_set; hatched: case b)")
-    handles = [plt.Rectangle((0, 0), 1, 1, color=SET_COLOUR[k]) for k in (1, 2, 3)]
-    labels = [run_of(study, "a", k).friction.label for k in (1, 2, 3)]
+    handles = [plt.Rectangle((0, 0), 1, 1, color=set_colour(k)) for k in _numbers(study)]
+    labels = [run_of(study, "a", k).friction.label for k in _numbers(study)]
     handles.append(plt.Rectangle((0, 0), 1, 1, color="tab:green", alpha=0.15))
     labels.append(f"practically zero (±{t:g} mm)")
     handles.append(plt.Line2D([], [], color="k", lw=0.6, ls="--"))
@@ -288,11 +307,11 @@ def symmetry(study, timeline, path):
     largest |Δd|."""
     fig, ax = plt.subplots(figsize=(10, 4))
     peak = 0.0
-    for number in (1, 2, 3):
+    for number in _numbers(study):
         a, b = run_of(study, "a", number).columns, run_of(study, "b", number).columns
         for side, other, line in (("left", "right", "-"), ("right", "left", ":")):
             ax.plot(a["t"], 1e3 * np.abs(a[f"dd_{side}_m"] - b[f"dd_{other}_m"]), line,
-                    color=SET_COLOUR[number], lw=1,
+                    color=set_colour(number), lw=1,
                     label=f"set {number}: a {side} vs b {other}")
             peak = max(peak, float(np.max(np.abs(a[f"dd_{side}_m"]))))
     ax.axhline(1e3 * SYMMETRY_TOLERANCE * peak, color="tab:red", lw=1, ls="--",
@@ -313,13 +332,13 @@ def rod_rotation(study, timeline, path):
     """Claim 5: each rod's rotation in its cylinder, both struts, every run; ±3° marked."""
     fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
     worst = (0.0, None, None, None)
-    for number in (1, 2, 3):
+    for number in _numbers(study):
         for case in CASES:
             run = run_of(study, case, number)
             h = run.columns
             for ax, side in zip(axes, ("left", "right")):
                 deg = np.degrees(h[f"rot_{side}_rad"])
-                ax.plot(h["t"], deg, CASE_LINE[case], color=SET_COLOUR[number], lw=1,
+                ax.plot(h["t"], deg, CASE_LINE[case], color=set_colour(number), lw=1,
                         label=f"{run.name} (set {number})")
                 k = int(np.argmax(np.abs(deg)))
                 if abs(deg[k]) > abs(worst[0]):
@@ -356,10 +375,12 @@ def all_figures(study, timeline, out, outcomes=None):
         start = "left" if case == "a" else "right"
         fig_dd(study, timeline, case, side, out / f"fig{fig}_{name}.png",
                f"Fig. {fig}{name}: lane change starting {start} (case {case}), {side} strut")
-    fig16(study, timeline, out / "fig16.png")
+    written = dict(FIGURES)
+    if not fig16(study, timeline, out / "fig16.png"):
+        del written["fig16.png"]
     claim1_return(study, timeline, out / "claim1_return.png")
     load_split(study, timeline, out / "load_split.png", outcomes)
     symmetry(study, timeline, out / "symmetry.png")
     rod_rotation(study, timeline, out / "rod_rotation.png")
-    return dict(FIGURES)
+    return written
 

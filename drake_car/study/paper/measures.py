@@ -9,7 +9,7 @@ import numpy as np
 from drake_car.model.geometry import SIDES
 from drake_car.scene.manoeuvres import Timeline
 from drake_car.study.paper.claims import (
-    CASES, DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE)
+    CASES, DISPLACEMENT_THRESHOLD_M, SYMMETRY_TOLERANCE, numbers_text, roles_of)
 
 RELATIONS = {"<=": np.less_equal, "<": np.less, ">": np.greater, ">=": np.greater_equal,
              "==": np.equal}
@@ -41,9 +41,9 @@ def claim_measures(table: dict, roles: dict):
     (a count: converged, and the peak that makes it clear of the threshold by more than the
     peak's error)."""
     names = {(c, f.number): n for n, (c, f) in roles.items()}
-    of = {k: [names[(c, k)] for c in CASES] for k in (1, 2, 3)}
-    a2, a3 = names[("a", 2)], names[("a", 3)]
-    pairs = [f"{names[('a', k)]}|{names[('b', k)]}" for k in (1, 2, 3)]
+    sets = roles_of(roles)
+    of = {k: [names[(c, k)] for c in CASES] for k in sets.numbers}
+    pairs = [f"{names[('a', k)]}|{names[('b', k)]}" for k in sets.numbers]
     T = DISPLACEMENT_THRESHOLD_M
 
     def m(name, outcomes, subjects, relation=None, threshold=None, how=max, decides=True,
@@ -66,36 +66,46 @@ def claim_measures(table: dict, roles: dict):
                "limited_by": worst.get("limited_by")}
         return _judged(out)
 
-    one = [m("rod movement as the acceleration ends, until the lane change: largest with "
-             "set 3", ["return_m"], of[3], "<=", T),
-           m("the same: smallest with sets 1-2", ["return_m"], of[1] + of[2], ">", T, how=min),
-           m("static friction's hold at rest, μs·N (set 3, left strut)", ["hold_N"], [a3]),
-           m("front left wheel unloaded by the speed-up: peak", ["unload_peak_N"], [a3]),
-           m("the same: steady (constant acceleration)", ["unload_steady_N"], [a3])]
-    two = [m("largest |Δd(b) - Δd(a)| with set 3", ["shift_left_m", "shift_right_m"], of[3],
-             ">", T)]
-    everyone = [n for k in (1, 2, 3) for n in of[k]]
+    everyone = [n for k in sets.numbers for n in of[k]]
+    one, two, six = [], [], []
+    if sets.high is not None:
+        high, a3 = sets.high, names[("a", sets.high)]
+        others = [n for k in sets.others for n in of[k]]
+        one = [m(f"rod movement as the acceleration ends, until the lane change: largest with "
+                 f"set {high}", ["return_m"], of[high], "<=", T)]
+        if others:
+            one.append(m(f"the same: smallest with {numbers_text(sets.others)}", ["return_m"],
+                         others, ">", T, how=min))
+        one += [m(f"static friction's hold at rest, μs·N (set {high}, left strut)", ["hold_N"],
+                  [a3]),
+                m("front left wheel unloaded by the speed-up: peak", ["unload_peak_N"], [a3]),
+                m("the same: steady (constant acceleration)", ["unload_steady_N"], [a3])]
+        two = [m(f"largest |Δd(b) - Δd(a)| with set {high}", ["shift_left_m", "shift_right_m"],
+                 of[high], ">", T)]
     three = [m("largest change of Δd_left - Δd_right from a to b", ["lr_change_m"], everyone,
                "<=", T),
              m("largest steady change of the front left-right load split, of the corner load",
-               ["split_change"], everyone)]
+               ["split_change"], everyone),
+             m("the same in newtons", ["split_change_N"], everyone)]
     peak = m("peak |Δd|", ["peak_dd_m"], everyone)
     four = [m("largest |Δd(a, side) - Δd(b, other side)|", ["mirror_residual_m"], pairs, "<=",
               SYMMETRY_TOLERANCE * peak["value"],
               threshold_error=SYMMETRY_TOLERANCE * (peak["error"] or 0.0))]
     five = [m("largest |rotation| of a rod in its cylinder", ["rotation_rad"], everyone, "<",
               math.radians(3.0))]
-    six = [m(f"times μ1 reaches μs, {s} strut", [f"mu1_reaches_{s}"], [a2], "==", 2,
-             decides=s == "left") for s in SIDES]
-    six += [m(f"largest μ1/μs, {s} strut (it counts on reaching 1)", [f"mu1_peak_{s}"], [a2],
-              ">=", 1, decides=False) for s in SIDES]
-    for count, peak in zip(six[:2], six[2:]):
-        # A count of threshold crossings is exact at each step, but a count of 0 is decided
-        # only when the peak is clear of μs by more than the peak's error: a peak within its
-        # error of μs could reach it at a finer step. (Once μ1 reaches μs the peak is exactly
-        # 1, the law's cap: a count above 0 rests on the count alone.)
-        if count["decided"] and count["value"] == 0 and peak["error"] is not None:
-            count["decided"] = peak["margin"] > peak["error"]
+    if sets.fig16 is not None:
+        a2 = names[("a", sets.fig16)]
+        six = [m(f"times μ1 reaches μs, {s} strut", [f"mu1_reaches_{s}"], [a2], "==", 2,
+                 decides=s == "left") for s in SIDES]
+        six += [m(f"largest μ1/μs, {s} strut (it counts on reaching 1)", [f"mu1_peak_{s}"],
+                  [a2], ">=", 1, decides=False) for s in SIDES]
+        for count, peak in zip(six[:2], six[2:]):
+            # A count of threshold crossings is exact at each step, but a count of 0 is
+            # decided only when the peak is clear of μs by more than the peak's error: a peak
+            # within its error of μs could reach it at a finer step. (Once μ1 reaches μs the
+            # peak is exactly 1, the law's cap: a count above 0 rests on the count alone.)
+            if count["decided"] and count["value"] == 0 and peak["error"] is not None:
+                count["decided"] = peak["margin"] > peak["error"]
     return [one, two, three, four, five, six]
 
 
@@ -119,8 +129,11 @@ def holds(measure, value=None):
 
 def verdict(rows):
     """(reproduced, decided) of a claim from its measures: decided None when no error was
-    estimated."""
+    estimated; (None, None) for a claim with no measures (not applicable to the study's
+    sets)."""
     deciding = [r for r in rows if r["decides"]]
+    if not deciding:
+        return None, None
     decided = [r["decided"] for r in deciding]
     return (all(r["holds"] for r in deciding),
             None if None in decided else all(decided))

@@ -12,7 +12,8 @@ import numpy as np
 from drake_car.model.geometry import SIDES
 from drake_car.results.files import read_csv, write_csv
 from drake_car.study.paper.claims import (
-    DISPLACEMENT_THRESHOLD_M, count_reaching, phase_one_return, place_values, study_columns)
+    DISPLACEMENT_THRESHOLD_M, count_reaching, phase_one_return, place_values, roles_of,
+    study_columns)
 from drake_car.study.paper.measures import speed_up_load_change
 
 MM = 1e-3
@@ -29,6 +30,14 @@ TOLERANCES = {
                      "claim 3's lasting load split, in fractions of the corner load: 0.1 %, a "
                      "tenth of the 1 % load_split.png is read by, and a seventeenth of the gap "
                      "between the two branches a jammed strut takes (5.0 or 6.7 %)"),
+    "split_change_N": (4.0, "N", False,
+                       "claim 3's lasting load split in newtons, context: split_change's 0.1 % "
+                       "of a 3-5 kN corner load"),
+    "wheel_torque_change_Nm": (0.05, "N m", False,
+                               "the lasting change of the steering-wheel torque the driver "
+                               "holds, context: a twentieth of the unassisted column's 1 N m "
+                               "of friction (scene.HandsOff), below which a released wheel "
+                               "does not move"),
     "mirror_residual_m": (0.05 * MM, "m", True,
                           "claim 4, a pair a_k|b_k: against 1 % of the peak |Δd| (about "
                           "0.39 mm), an eighth of it"),
@@ -60,8 +69,11 @@ ROUTES = ("global", "local", "none")
 def study_outcomes(columns: dict, roles: dict, timeline):
     """{(subject, outcome): (value, unit)} of study columns ``columns`` (name -> RUN_COLUMNS,
     all at one step; any subset of the study's runs); ``roles``: name -> (case, FrictionSet)
-    (``claims.check_study_scenes``). A pair's outcome needs both of its runs."""
+    (``claims.check_study_scenes``). A pair's outcome needs both of its runs. The highest
+    dry set's runs give claims 1 and 2 their numbers, case a of Fig. 16's set claim 6's
+    (``sets.SetRoles``)."""
     out = {}
+    sets = roles_of(roles)
     for name, h in columns.items():
         case, friction = roles[name]
 
@@ -72,20 +84,23 @@ def study_outcomes(columns: dict, roles: dict, timeline):
         for s in SIDES:
             put(f"dd_{s}_a_m", at[s][0])
             put(f"dd_{s}_b_m", at[s][1])
-            if friction.number == 3:
+            if friction.number == sets.high:
                 put(f"shift_{s}_m", at[s][1] - at[s][0])
         put("lr_change_m", (at["left"][1] - at["right"][1]) - (at["left"][0] - at["right"][0]))
         corner = 0.5 * (float(h["Fz_fl_N"][0]) + float(h["Fz_fr_N"][0]))
         fl, fr = (place_values(h, timeline, f"Fz_{w}_N") for w in ("fl", "fr"))
         put("split_change", ((fl[1] - fr[1]) - (fl[0] - fr[0])) / corner)
+        put("split_change_N", (fl[1] - fr[1]) - (fl[0] - fr[0]))
+        torque = place_values(h, timeline, "steering_wheel_torque_Nm")
+        put("wheel_torque_change_Nm", torque[1] - torque[0])
         put("peak_dd_m", max(float(np.max(np.abs(h[f"dd_{s}_m"]))) for s in SIDES))
         put("rotation_rad", max(float(np.max(np.abs(h[f"rot_{s}_rad"]))) for s in SIDES))
-        if (case, friction.number) == ("a", 2):
+        if (case, friction.number) == ("a", sets.fig16):
             for s in SIDES:
                 put(f"mu1_reaches_{s}", count_reaching(h[f"mu1_{s}"], friction.mu_s))
                 put(f"mu1_peak_{s}", np.max(h[f"mu1_{s}"]) / friction.mu_s
                     if friction.mu_s > 0 else 0.0)
-        if (case, friction.number) == ("a", 3):
+        if (case, friction.number) == ("a", sets.high):
             t = h["t"]
             rest = min(int(np.searchsorted(t, timeline.settle_s)), len(t) - 1)
             peak, steady = speed_up_load_change(h, timeline)

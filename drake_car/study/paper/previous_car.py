@@ -1,5 +1,12 @@
 """The main job's verdicts on the previous version's car, as recorded, and why a verdict
-changed: the report's comparison (issue 12's rerun of the paper's study on the credible car)."""
+changed: the report's comparison (issue 12's rerun of the paper's study on the credible car).
+It speaks of the shipped car on its shipped tyre, with the shipped study's drive, timeline and
+friction sets: the report has it only for a study of that car (``applies``)."""
+
+import functools
+
+from drake_car.study.car.describe import is_shipped_car, on_shipped_tyre
+from drake_car.study.paper.sets import friction_of
 
 # The main job's verdicts on the previous version's car (commit a102747: both front wheels'
 # rotation prescribed, no anti-roll bar, E90-derived front geometry with 75 % pro-lift), from
@@ -16,8 +23,34 @@ WHY_CHANGED = {
                "instead of 9.1 mm, so the rods turn by 2.7 deg instead of 4.5 deg"}
 
 
+@functools.lru_cache(maxsize=1)
+def _shipped_study():
+    """(drives, timelines, friction sets) of the shipped study (scenes/paper_study.yaml)."""
+    from drake_car.data import resource
+    from drake_car.scene.load import load_scene_file
+    scenes = load_scene_file(resource("scenes/paper_study.yaml")).values()
+    return ({repr(s.drive) for s in scenes}, {repr(s.manoeuvre.timeline) for s in scenes},
+            frozenset(friction_of(s) for s in scenes))
+
+
+def applies(scenes):
+    """Whether the study of ``scenes`` (its runs' scenes) is the main job's on the shipped car:
+    the shipped car (its struts' damping set by the friction sets) on the shipped tyre, with
+    the shipped study's drive, timeline and friction sets; what the section says of the
+    previous car and of why a verdict changed holds only then."""
+    scenes = list(scenes)
+    drives, timelines, sets = _shipped_study()
+    return (all(is_shipped_car(s.car) and on_shipped_tyre(s) for s in scenes)
+            and {repr(s.drive) for s in scenes} == drives
+            and {repr(s.manoeuvre.timeline) for s in scenes} == timelines
+            and frozenset(friction_of(s) for s in scenes) == sets)
+
+
 def previous_car_section(s):
-    """The report's section: each claim's verdict on the previous car beside this one's."""
+    """The report's section: each claim's verdict on the previous car beside this one's (only
+    when the summary says the study is of the shipped car: ``paper_car``)."""
+    if not s.get("paper_car"):
+        return []
     lines = ["## Against the previous version's car", "",
              "The main job on the car of commit a102747 (a locked front axle, no anti-roll bar, "
              "the E90-derived front geometry), as it reported:", "",

@@ -94,6 +94,16 @@ def seat_psd(history, start_s, segment_s=2.0):
     return f, p
 
 
+def window_speed_kph(history, start_s):
+    """(lowest, highest) speed over the analysed window (km/h), the rear wheels' centres'
+    forward speed (the ride study logs no chassis channels); NaN without the tyres' columns."""
+    w = window(history, start_s)
+    if "vx_rl_mps" not in history or not w.any():
+        return math.nan, math.nan
+    v = 3.6 * 0.5 * (np.asarray(history["vx_rl_mps"]) + np.asarray(history["vx_rr_mps"]))[w]
+    return float(np.min(v)), float(np.max(v))
+
+
 def collect(runs_by_name, start_of):
     """Rows (dicts) of the coarse runs in ``runs_by_name`` (name -> Run) whose half-step twin
     (name + "_half") is there too: the run's cell (road_class, speed_kph, mu_s, strut), its
@@ -108,7 +118,9 @@ def collect(runs_by_name, start_of):
         fine = outcomes(twin.history, start_of(twin.scene))
         parts = name.split("_")
         mu_d = 0.0 if scene.friction is None else scene.friction.law.mu_d
+        low, high = window_speed_kph(run.history, start_of(scene))
         rows.append({"name": name, "road_class": parts[0],
+                     "speed_min_kph": low, "speed_max_kph": high,
                      "rig_friction_N": mu_d * coarse["normal_mean_N"],
                      "speed_kph": scene.manoeuvre.timeline.speed_kph,
                      "mu_s": 0.0 if scene.friction is None else scene.friction.law.mu_s,

@@ -23,8 +23,8 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.law.checks import ParameterError
 from drake_car.law.road.iso8608 import CLASS_GD_N0_M3, road_profile
-from drake_car.scene.load import check_scene, load_scene
-from drake_car.scene.manoeuvres import MAX_SPEED_KPH
+from drake_car.scene.load import SceneError, check_scene, load_scene
+from drake_car.scene.manoeuvres import MAX_SPEED_KPH, Straight
 from drake_car.scene.scene import Friction
 from drake_car.law.friction.frd import StrutFrictionParameters
 
@@ -82,10 +82,21 @@ class RideStudy:
         return max(DEFAULT_ROAD_M, float(math.ceil(need + ROAD_MARGIN_M)))
 
 
-def base_scene(scene_text=None):
-    """``scenes/ride.yaml``'s ``ride`` with ``scene_text`` laid over it."""
+def base_scene(scene_text=None, scene=None):
+    """``scenes/ride.yaml``'s ``ride`` with the values the scene file ``scene`` ((FILE, ENTRY
+    or None): the user's car) states laid over it, then ``scene_text``."""
     from drake_car.data import resource
-    return load_scene(resource("scenes") / "ride.yaml", child="ride", scene_text=scene_text)
+    base = load_scene(resource("scenes") / "ride.yaml", child="ride")
+    if scene is not None:
+        base = load_scene(scene[0], child=scene[1], base=base)
+    if scene_text:
+        base = load_scene(scene_text=scene_text, base=base)
+    if not isinstance(base.manoeuvre, Straight):
+        raise SceneError(f"the ride study drives straight at constant speed; its base scene's "
+                         f"manoeuvre must be !Straight, not !{type(base.manoeuvre).__name__} "
+                         "from --scene/--scene_text: give the car alone (a scene entry "
+                         "without a manoeuvre, or --scene_text \"{car_file: FILE, ...}\")")
+    return base
 
 
 def speed_up_s(speed_kph):
@@ -150,11 +161,12 @@ def analysed_from_s(scene, study: RideStudy):
     return t.settle_s + t.speed_up_s + study.settle_window_s
 
 
-def ride_scenes(study: RideStudy, order=None, scene_text=None):
+def ride_scenes(study: RideStudy, order=None, scene_text=None, scene=None):
     """{name: scene} of every run and its half-step twin; ``order``: a list of (class, speed)
-    to run first (the rest follow); ``scene_text`` laid over the base scene."""
+    to run first (the rest follow); ``scene`` and ``scene_text`` laid over the base scene
+    (``base_scene``)."""
     study.check()
-    base = base_scene(scene_text)
+    base = base_scene(scene_text, scene)
     cells = [(c, v) for v in study.speeds_kph for c in study.classes]
     if order:
         cells = [c for c in order if c in cells] + [c for c in cells if c not in order]

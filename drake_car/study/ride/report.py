@@ -6,9 +6,10 @@ import math
 
 import numpy as np
 
+from drake_car.study.car.describe import car_facts, car_lines
 from drake_car.study.ride.analysis import OUTCOMES, seat_psd
 from drake_car.study.ride.figures import plot_against_mu, plot_psd
-from drake_car.study.ride.grid import analysed_from_s
+from drake_car.study.ride.grid import SPEED_UP_KPH_PER_S, analysed_from_s
 
 COLUMNS = (("aw_seat_mps2", "a_w seat [m/s²]", 3), ("pitch_acc_rms_radps2", "pitch acc. [rad/s²]", 3),
            ("roll_acc_rms_radps2", "roll acc. [rad/s²]", 3), ("dlc_front", "DLC front", 4),
@@ -162,7 +163,7 @@ def write_outputs(out, rows, runs, study, wall_s):
     """DIR/outcomes.csv, the figures and DIR/report.md of ``rows`` (``analysis.collect``);
     ``runs``: name -> a finished run (.scene, .history) for the spectra."""
     fields = ["name", "road_class", "speed_kph", "strut", "mu_s", "rig_friction_N", "wall_s",
-              "wall_half_s",
+              "wall_half_s", "speed_min_kph", "speed_max_kph",
               *OUTCOMES, *[f"err_{k}" for k in OUTCOMES]]
     with open(out / "outcomes.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fields)
@@ -194,17 +195,34 @@ def write_outputs(out, rows, runs, study, wall_s):
                         f"friction force μd·N̄: slope {100 * b:.3f} m/s² per 100 N, R² {r2:.3f}, "
                         f"largest deviation from the line {100 * dev:.0f} % of the change; "
                         f"numerical error of a_w ≤ {err:.1g} m/s²)")
+    first = next(iter(runs.values()))
+    scene, lubricated = first.scene, [r for r in runs.values() if r.scene.friction is None]
+    car = car_facts(lubricated[0].scene if lubricated else scene)
+    steps = sorted({r.scene.plant.time_step for r in runs.values()})
+    track = _track_m(study, runs)
+    held = [(r["speed_min_kph"], r["speed_max_kph"], r["speed_kph"]) for r in rows]
+    worst = max((max(abs(lo - v), abs(hi - v)) for lo, hi, v in held
+                 if math.isfinite(lo)), default=math.nan)
     text = [
         "# Ride comfort and road holding on rough roads against strut friction (issue 23)", "",
         f"{len(rows)} runs, each with its half-step twin ({2 * len(rows)} simulations); "
         f"analysis wall time {wall_s:.0f} s. Road: ISO 8608 (law/road/iso8608.py), one seed "
         f"({study.seed}) for every class and speed (class B is class A's road doubled, C is "
         f"B's doubled), {study.road_m():g} m, 0.05 m samples, 0.011-2.83 cycles/m, two "
-        f"tracks {_track_m(study, runs):g} m apart with the isotropic coherence. The car "
-        "speeds up at "
-        f"0.57 g, then {study.settle_window_s:g} s settles and {study.window_s:g} s is analysed "
-        "at constant speed; logged every 2 ms (Nyquist 250 Hz > Wk's 80 Hz); step 1 ms, twin "
-        "at 0.5 ms. μd = 0.75 μs.", "",
+        f"tracks {track:g} m apart (the car's front track) with the isotropic coherence. The "
+        f"speed profile asks {SPEED_UP_KPH_PER_S / 3.6 / 9.81:.2f} g up to the speed, then "
+        f"{study.settle_window_s:g} s settles and {study.window_s:g} s is analysed; in the "
+        f"analysed windows the car held its speed within {worst:.2f} km/h"
+        + (" (**not at constant speed: the car did not follow the speed-up**)"
+           if worst > 1.0 else "") + "; logged every "
+        f"{1e3 * scene.logging.record_period_s:g} ms (Nyquist "
+        f"{0.5 / scene.logging.record_period_s:.0f} Hz against Wk's 80 Hz); step "
+        f"{1e3 * steps[-1]:g} ms, twin at {1e3 * steps[0]:g} ms. μd = {study.mu_d_ratio:g} μs.",
+        "", "## The car", "", *car_lines(car),
+        "- **strut models**: *lubricated* is the car as it is (μs = 0: no dry friction, its "
+        f"own damper of {car['strut_damping_Nspm']:g} N s/m); *damper* adds the dry friction "
+        "to the car's damper (a real strut); *paper* removes the viscous damping (the paper's "
+        "dry strut).", "",
         "## Summary", "", summary_text(rows), "",
         "## What each μs costs", "", cost_table(rows), "",
         "## Is the worsening linear in the friction force?", "",
