@@ -129,14 +129,19 @@ def test_every_finding_names_its_command_and_commit(path):
         "not name the command and commit that made it (tools/findings.sh writes it)"
 
 
-def test_the_readme_findings_table_is_the_main_jobs_report():
+@pytest.mark.parametrize("study", ["paper", "paper_bmw"])
+def test_the_readme_findings_table_is_the_main_jobs_report(study):
+    """The README's tables (the Escort's, the BMW's) are their reports' claims, as
+    tools/readme_findings.py makes them."""
     spec = importlib.util.spec_from_file_location(
         "readme_findings", ROOT / "tools" / "readme_findings.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    report = (DOCS / "findings" / "paper.md").read_text()
+    link = f"docs/findings/{study}.md"
+    report = (ROOT / link).read_text()
     readme = README.read_text()
-    block = readme.split(module.BEGIN, 1)[1].split(module.END, 1)[0]
-    assert block.strip().splitlines() == module.findings_table(report), \
-        "README.md's findings table differs from docs/findings/paper.md's claims: run " \
-        "python tools/readme_findings.py docs/findings/paper.md README.md"
+    block = readme.split(f"<!-- findings:{study} -->", 1)[1].split(
+        f"<!-- /findings:{study} -->", 1)[0]
+    assert block.strip().splitlines() == module.findings_table(report, link=link), \
+        f"README.md's findings table differs from {link}'s claims: run " \
+        f"python tools/readme_findings.py {link} README.md findings:{study}"

@@ -21,11 +21,14 @@ from drake_car.sim.simulate import SceneRunner as Runner, simulate
 
 # The paper's timeline shortened 20 times (as tests/test_branch.py): the launch starts at 0.04 s,
 # the lane change at 0.25 s; and a slower one (20 km/h in 0.8 s, the lane change at 0.94 s) whose
-# set-3 struts have events near their threshold in the launch and in the lane change.
+# set-3 struts have events near their threshold in the launch and in the lane change; the
+# shipped Escort's rack as given (too short a lane change to calibrate one for).
 SHORT = ("manoeuvre: !LaneChange {timeline: {settle_s: 0.04, speed_up_s: 0.15, "
-         "straight_s: 0.06, steer_s: 0.12, calm_s: 0.13}}")
+         "straight_s: 0.06, steer_s: 0.12, calm_s: 0.13}, amplitude_m: 0.005908525382359731, "
+         "second_lobe: 1.012425560052948}")
 SLOW = ("manoeuvre: !LaneChange {timeline: {settle_s: 0.04, speed_up_s: 0.8, straight_s: 0.1, "
-        "steer_s: 0.6, calm_s: 0.3, speed_kph: 20}}")
+        "steer_s: 0.6, calm_s: 0.3, speed_kph: 20}, amplitude_m: 0.005908525382359731, "
+        "second_lobe: 1.012425560052948}")
 RESOLVE = "\nsimulator: {resolve_events: {}}"
 DV, DMAX = 1e-4, 5e-6  # the paper's Δv and Δmax (translation)
 

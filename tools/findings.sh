@@ -22,7 +22,7 @@ ROOT=$PWD
 PYTHON=${PYTHON:-$ROOT/.venv/bin/python}
 SCRATCH=${SCRATCH:-$(mktemp -d /tmp/drake_car_findings.XXXXXX)}
 SCRATCH=$(cd "$(dirname "$SCRATCH")" && pwd)/$(basename "$SCRATCH")
-STUDIES="paper handling strut_rig ride car_checks"
+STUDIES="paper paper_bmw handling strut_rig ride car_checks"
 PAPER_VERIFY=""
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -52,20 +52,22 @@ git -C "$SRC" checkout -q --detach "$(git rev-parse HEAD)"
 args_of() {
   case "$1" in
     paper)      echo "paper --out $SCRATCH/paper --no_html $PAPER_VERIFY" ;;
+    paper_bmw)  echo "paper --out $SCRATCH/paper_bmw --no_html $PAPER_VERIFY --scene_text 'car_file: cars/bmw_320i.yaml'" ;;
     handling)   echo "handling --out $SCRATCH/handling" ;;
     strut_rig)  echo "strut_rig --out $SCRATCH/strut_rig" ;;
     ride)       echo "ride --out $SCRATCH/ride --classes B --speeds 60" ;;
     car_checks) echo "car_checks --out $SCRATCH/car_checks" ;;
     design)     echo "design --out $SCRATCH/design" ;;
-    *) echo "findings.sh: no study $1 (paper, handling, strut_rig, ride, car_checks, design)" >&2
+    *) echo "findings.sh: no study $1 (paper, paper_bmw, handling, strut_rig, ride, car_checks, design)" >&2
        return 2 ;;
   esac
 }
 
 for study in $STUDIES; do
   args=$(args_of "$study")
-  set -- $args
+  eval "set -- $args"  # the arguments as quoted above
   command=$1; shift
+  folder=$study
   script="drake-car-${command//_/-}"
   echo "findings: $script $* ..." >&2
   start=$(date +%s)
@@ -77,12 +79,15 @@ for study in $STUDIES; do
     echo "Made by \`$script $*\` at commit $COMMIT ($DATE, ${wall} s of wall; tools/findings.sh copied its report.md here, links to its output files shown as names)."
     echo
     sed -E -e 's/!?\[([^]]*)\]\(([^): ]+\.(png|svg|html|csv|json|txt))\)/`\2`/g' \
-      -e "s#$SRC/##g" "$SCRATCH/$command/report.md"
+      -e "s#$SRC/##g" "$SCRATCH/$folder/report.md"
   } > "docs/findings/$study.md"
-  echo "findings: wrote docs/findings/$study.md (${wall} s of wall; runs in $SCRATCH/$command)" >&2
+  echo "findings: wrote docs/findings/$study.md (${wall} s of wall; runs in $SCRATCH/$folder)" >&2
 done
 
-if [ -f docs/findings/paper.md ]; then
-  PYTHONPATH=$ROOT "$PYTHON" tools/readme_findings.py docs/findings/paper.md README.md
-fi
+for study in paper paper_bmw; do
+  if [ -f "docs/findings/$study.md" ]; then
+    PYTHONPATH=$ROOT "$PYTHON" tools/readme_findings.py "docs/findings/$study.md" README.md \
+      "findings:$study"
+  fi
+done
 echo "findings: scratch folder $SCRATCH" >&2

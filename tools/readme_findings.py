@@ -1,19 +1,21 @@
 """The README's "what the main job finds" table, made from the main job's report (never typed):
 
-    python tools/readme_findings.py docs/findings/paper.md README.md
+    python tools/readme_findings.py docs/findings/paper.md README.md [MARKER]
 
 reads the report's two tables ("The paper's claims": each claim and its verdict; "Every number
 behind a verdict": each deciding number with its threshold and numerical error) and writes,
 between README.md's markers ``<!-- findings:paper -->`` and ``<!-- /findings:paper -->``, one
 row per claim: the claim, the verdict, the numbers that decide it with their errors, and a
-first line naming the report's command and commit (the report's own first line). Run by
-tools/findings.sh after it copies the report."""
+first line naming the report's command and commit (the report's own first line). With MARKER, between
+``<!-- MARKER -->`` and ``<!-- /MARKER -->`` (the second shipped car's: ``findings:paper_bmw``).
+Run by tools/findings.sh after it copies the report."""
 
 import re
 import sys
 from pathlib import Path
 
-BEGIN, END = "<!-- findings:paper -->", "<!-- /findings:paper -->"
+MARKER = "findings:paper"
+BEGIN, END = f"<!-- {MARKER} -->", f"<!-- /{MARKER} -->"
 
 
 def cells(line):
@@ -41,7 +43,7 @@ def short_verdict(text):
     return f"undecided (at {found[1]}: {found[2]})" if found else text
 
 
-def findings_table(report):
+def findings_table(report, link="docs/findings/paper.md"):
     """The README's lines for ``report`` (the text of docs/findings/paper.md)."""
     first = report.splitlines()[0]
     found = re.match(r"Made by (`[^`]+`) at commit ([^(]+?) \(([^,]+),", first)
@@ -50,7 +52,7 @@ def findings_table(report):
     claims = table(report, "## The paper's claims")
     numbers = table(report, "## Every number behind a verdict")
     lines = [f"Made by {found[1]} at commit {found[2]} ({found[3]}; its report: "
-             "[docs/findings/paper.md](docs/findings/paper.md)):", "",
+             f"[{link}]({link})):", "",
              "| # | the paper's claim | verdict | the numbers that decide it (threshold), their numerical error |",
              "|---|---|---|---|"]
     for number, claim, verdict, *_ in claims:
@@ -61,18 +63,19 @@ def findings_table(report):
     return lines
 
 
-def main(report_path, readme_path):
+def main(report_path, readme_path, marker=MARKER):
+    begin, end = f"<!-- {marker} -->", f"<!-- /{marker} -->"
     report = Path(report_path).read_text()
     readme = Path(readme_path).read_text()
-    if BEGIN not in readme or END not in readme:
-        raise SystemExit(f"{readme_path}: no {BEGIN} ... {END} markers")
-    head, rest = readme.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
+    if begin not in readme or end not in readme:
+        raise SystemExit(f"{readme_path}: no {begin} ... {end} markers")
+    head, rest = readme.split(begin, 1)
+    _, tail = rest.split(end, 1)
     Path(readme_path).write_text(
-        head + BEGIN + "\n" + "\n".join(findings_table(report)) + "\n" + END + tail)
+        head + begin + "\n" + "\n".join(findings_table(report, link=str(report_path))) + "\n" + end + tail)
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
+    if len(sys.argv) not in (3, 4):
         raise SystemExit(__doc__)
     main(*sys.argv[1:])
