@@ -212,3 +212,37 @@ def test_the_steering_wheel_torque_is_the_rack_force_through_the_rack_gain():
     assert not math.isclose(float(np.max(np.abs(other.history["steering_wheel_torque_Nm"]))),
                             float(np.max(np.abs(h["steering_wheel_torque_Nm"]))))
     assert dataclasses.is_dataclass(run.scene)
+
+
+def test_the_design_study_keeps_the_shipped_car_s_manoeuvre_and_a_rack_the_user_gives(engineer):
+    from drake_car.study.design import base_car
+    shipped = load_study(DESIGN, "study")
+    assert base_car.adapted_base(shipped) == (shipped, [])  # the Escort: as the spec gives it
+    given = load_study(DESIGN, "study", scene=(engineer, "car"), scene_text=(
+        "manoeuvre: !LaneChange {amplitude_m: 0.007, second_lobe: 1.0}"))
+    study, words = base_car.adapted_base(given, stated={"speed_up_s", "amplitude_m",
+                                                        "second_lobe"})
+    assert words == [] and study.base.manoeuvre == given.base.manoeuvre  # run as given
+
+
+@pytest.mark.slow
+def test_the_design_study_on_the_user_s_car_calibrates_its_rack_once(engineer):
+    """The engineer's car (their 6 s launch stated) in the design study: the shipped Escort's
+    5.91 mm rack would not move this car 3.7 m; the base's rack is calibrated for it (within
+    the calibration's 2 mm of shift, lane_change_calibration.SHIFT_RESIDUAL_M) and the report's
+    method says so."""
+    from drake_car.sim.lane_change_calibration import SHIFT_RESIDUAL_M
+    from drake_car.study.design import answers, base_car
+    study = load_study(DESIGN, "study", scene=(engineer, "car"))
+    adapted, words = base_car.adapted_base(study, stated={"speed_up_s"})
+    m = adapted.base.manoeuvre
+    assert m.timeline.speed_up_s == 6.0  # the user's launch, as stated
+    assert (m.amplitude_m, m.second_lobe) != base_car.shipped_profile()
+    assert len(words) == 1 and words[0].startswith("the rack calibrated for this car")
+    from drake_car.sim import lane_change_cache
+    from drake_car.sim.lane_change_calibration import calibration_scene
+    found = lane_change_cache.find(lane_change_cache.content_sha256(calibration_scene(
+        adapted.base)))
+    assert abs(found["residual"]["shift_error_m"]) <= SHIFT_RESIDUAL_M
+    text = " ".join(answers.method(adapted, words, base_car.shipped_profile()))
+    assert "calibrated for this car" in text and "not for this one" not in text
