@@ -126,7 +126,12 @@ def write_entry(folder, key, text):
 
 def clear():
     """Deletes every entry; returns how many."""
-    folder = cache_folder()
+    return clear_folder(cache_folder())
+
+
+def clear_folder(folder):
+    """Deletes every entry of a cache folder (its JSON files and unfinished writes; None or
+    absent: none); returns how many."""
     if folder is None or not folder.is_dir():
         return 0
     entries = list(folder.glob("*.json")) + list(folder.glob(".*.tmp"))
@@ -141,13 +146,3 @@ def _whole(e: Equilibrium):
     return (bool(e.positions) and all(isinstance(x, (int, float)) and math.isfinite(x)
                                       for x in numbers))
 
-
-if __name__ == "__main__":
-    import argparse
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--clear", action="store_true", help="delete every entry")
-    args = parser.parse_args()
-    print(cache_folder() or f"off ({ENVIRONMENT_VARIABLE}=off)")
-    if args.clear:
-        print(f"deleted {clear()} entries")

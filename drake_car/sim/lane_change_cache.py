@@ -124,21 +124,5 @@ def store(content, calibration: dict):
 def clear():
     """Deletes every entry on disk (and forgets this process's); returns how many."""
     _memory.clear()
-    folder = cache_folder()
-    if folder is None or not folder.is_dir():
-        return 0
-    entries = list(folder.glob("*.json")) + list(folder.glob(".*.tmp"))
-    for path in entries:
-        path.unlink(missing_ok=True)
-    return len(entries)
+    return equilibrium_cache.clear_folder(cache_folder())
 
-
-if __name__ == "__main__":
-    import argparse
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--clear", action="store_true", help="delete every entry")
-    args = parser.parse_args()
-    print(cache_folder() or f"off ({equilibrium_cache.ENVIRONMENT_VARIABLE}=off)")
-    if args.clear:
-        print(f"deleted {clear()} entries")

@@ -191,11 +191,12 @@ def _line_answer(study, line, threshold, noise):
                      + f"; above {threshold:g} % at "
                      f"{sum(v > threshold for v in split)} of {len(split)} values) and the "
                      f"|pull| {min(pull):.2f} ... {max(pull):.2f} deg")
-    values = ", ".join(f"{v:g}" for v in _values(line))
+    values = ", ".join(f"{v:g}" for v in line_values(line))
     return f"{line['label']} ({values}): " + "; ".join(parts) + "."
 
 
-def _values(line):
+def line_values(line):
+    """A line's values in the order its points first give them."""
     seen = []
     for p in line["points"]:
         if p["value"] not in seen:

@@ -7,6 +7,7 @@ user's change (``--compare``), the accuracy. A smoke test (``--quick``) says so 
 import math
 
 from drake_car.study.car.describe import car_lines
+from drake_car.study.design.answers import line_values
 from drake_car.study.design.compare import compare_lines
 from drake_car.study.design.jam_cases import report_lines
 from drake_car.study.design.resolved_runs import report_lines as local_report_lines
@@ -142,14 +143,6 @@ def factor_rows(study):
              "reason": " ".join(f.reason.split())} for f in study.factors]
 
 
-def _values(line):
-    seen = []
-    for p in line["points"]:
-        if p["value"] not in seen:
-            seen.append(p["value"])
-    return seen
-
-
 def _line_section(s, figures):
     if not s.get("lines"):
         return []
@@ -162,7 +155,7 @@ def _line_section(s, figures):
         lines += [f"**{line['label']}** (`{line['key']}`): {line['reason']}", "",
                   "| value | " + " | ".join(f"split μs {m:g} | pull μs {m:g}" for m in mus) + " |",
                   "|---|" + "---|---|" * len(mus)]
-        for value in _values(line):
+        for value in line_values(line):
             cells = []
             for m in mus:
                 p = next(p for p in line["points"] if p["value"] == value and p["mu_s"] == m)
