@@ -93,13 +93,13 @@ def test_car_checks_script(tmp_path):
 
 @pytest.mark.slow
 def test_main_job_smoke(tmp_path):
-    """The README's main job on a timeline shortened 20 times, with accuracy on demand down to
-    1/8 of the step: the report, outcomes.csv (every run's deciding outcomes with its own error
+    """The README's main job on a timeline shortened 20 times, with accuracy on demand's global
+    route (--refine global: every run halved whole) down to 1/8 of the step: the report, outcomes.csv (every run's deciding outcomes with its own error
     or "not converged"), the six runs (each with its scene as it ran), the figures and the
     replay."""
     out = tmp_path / "study"
     result = run(["experiments/paper.py", "--out", out, "--scene_text", SHORT,
-                  "--finest_step_s", 1.25e-4])
+                  "--finest_step_s", 1.25e-4, "--refine", "global"])
     report = (out / "report.md").read_text()
     assert "| 1 |" in report and "| 6 |" in report and "## Sets and cases" in report
     summary = json.loads((out / "summary.json").read_text())
@@ -137,6 +137,32 @@ def test_main_job_smoke(tmp_path):
         assert (out / name).stat().st_size > 0, name
     assert "claims reproduced" in result.stdout
     assert summary["refinement"]["finest_step_s"] >= 1.25e-4
+
+
+@pytest.mark.slow
+def test_main_job_smoke_local_route(tmp_path):
+    """The main job's default route on the shortened timeline: the dry runs resolve their
+    events locally (outcomes.csv says "local", how many windows and events, the finest step
+    and the CPU they took), the runs without dry friction are halved whole (route "global");
+    the report says how each run was made accurate."""
+    out = tmp_path / "study"
+    run(["experiments/paper.py", "--out", out, "--scene_text", SHORT, "--no_html"])
+    outcomes = read_outcomes(out / "outcomes.csv")
+    for name in ("a_1", "a_2", "a_3", "b_1", "b_2", "b_3"):
+        row = outcomes[(name, "split_change")]
+        assert np.isfinite(row["value"]), name
+        if name.endswith("_1"):  # no dry friction: no events, refined globally
+            assert row["route"] == "global" and row["steps_s"][:3] == [1e-3, 5e-4, 2.5e-4]
+        else:
+            assert row["route"] == "local", name
+            assert row["windows"] >= 0 and row["events_resolved"] >= 0
+            assert row["run_cpu_s"] is not None and row["run_cpu_s"] > 0
+            if row["windows"]:  # a window's finest step is a halving of the run's
+                assert row["finest_step_s"] <= 0.5e-3
+    report = (out / "report.md").read_text()
+    assert "## How each run was made accurate, and what it cost" in report
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["refinement"]["route"] == "local"
 
 
 @pytest.mark.slow
