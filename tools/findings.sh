@@ -69,14 +69,15 @@ for study in $STUDIES; do
   command=$1; shift
   folder=$study
   script="drake-car-${command//_/-}"
-  echo "findings: $script $* ..." >&2
+  shown="$script$(printf ' %q' "$@")"  # the arguments as a shell takes them back
+  echo "findings: $shown ..." >&2
   start=$(date +%s)
   (cd "$SRC" && PYTHONPATH=$SRC "$PYTHON" -m "drake_car.commands.$command" "$@" --quiet)
   wall=$(( $(date +%s) - start ))
   # The report as the command wrote it; its links to the output folder's files (figures,
   # CSVs) become names in code type: the files stay in the scratch folder, not in docs/.
   {
-    echo "Made by \`$script $*\` at commit $COMMIT ($DATE, ${wall} s of wall; tools/findings.sh copied its report.md here, links to its output files shown as names)."
+    echo "Made by \`$shown\` at commit $COMMIT ($DATE, ${wall} s of wall; tools/findings.sh copied its report.md here, links to its output files shown as names)."
     echo
     sed -E -e 's/!?\[([^]]*)\]\(([^): ]+\.(png|svg|html|csv|json|txt))\)/`\2`/g' \
       -e "s#$SRC/##g" "$SCRATCH/$folder/report.md"
