@@ -141,12 +141,13 @@ def test_main_job_smoke(tmp_path):
 
 @pytest.mark.slow
 def test_main_job_smoke_local_route(tmp_path):
-    """The main job's default route on the shortened timeline: the dry runs resolve their
+    """The main job's local route (--refine local) on the shortened timeline: the dry runs resolve their
     events locally (outcomes.csv says "local", how many windows and events, the finest step
     and the CPU they took), the runs without dry friction are halved whole (route "global");
     the report says how each run was made accurate."""
     out = tmp_path / "study"
-    run(["experiments/paper.py", "--out", out, "--scene_text", SHORT, "--no_html"])
+    run(["experiments/paper.py", "--out", out, "--scene_text", SHORT, "--no_html",
+         "--refine", "local"])
     outcomes = read_outcomes(out / "outcomes.csv")
     for name in ("a_1", "a_2", "a_3", "b_1", "b_2", "b_3"):
         row = outcomes[(name, "split_change")]

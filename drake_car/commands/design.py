@@ -74,9 +74,10 @@ def main(argv=None):
                         "{spring_offset_m: 0.03}}\"): what it does, with its error")
     p.add_argument("--rerun_failed", action="store_true",
                    help="run the failed runs again (a rerun reuses them otherwise)")
-    p.add_argument("--refine", choices=("local", "global"), default="local",
-                   help="accuracy on demand: every run with dry friction resolves its events "
-                        "locally (local), or the jam cases are halved whole (global) "
+    p.add_argument("--refine", choices=("local", "global"), default="global",
+                   help="accuracy on demand: the jam cases are halved whole (global), or every "
+                        "run with dry friction resolves its near-threshold events locally "
+                        "(local: its errors cover the windows only, docs/accuracy.md) "
                         "(default: %(default)s)")
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: the jam cases at the study's step only, every "

@@ -1,5 +1,6 @@
-"""The design study's accuracy on demand, local route (the default; ``--refine global`` refines
-the jam cases by halving their whole step, ``study.design.jam_cases``): every run with dry
+"""The design study's accuracy on demand, local route (``--refine local``; the default,
+``--refine global``, refines the jam cases by halving their whole step,
+``study.design.jam_cases``): every run with dry
 friction, in every part (maps, lines, Sobol's sample, the Monte Carlo, the mitigations, the
 noise sample), resolves its near-threshold stick-slip events locally (``sim.resolve``, its
 scene's ``simulator.resolve_events``: windows at halved steps down to the spec's
