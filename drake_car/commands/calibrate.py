@@ -5,7 +5,7 @@ equilibrium, with lubricated struts (sim.lane_change_calibration).
 
 Every run does this by itself: a lane change without amplitude_m and second_lobe is calibrated
 for the car that runs it the first time its inputs (car, tyres, road, drive, timeline) are
-seen, and kept in the calibration cache (python -m drake_car.sim.lane_change_cache); the
+seen, and kept in the calibration cache (drake-car-cache); the
 shipped Escort's calibration (drake_car/scene/lane_change_profile.json) is used where its
 recorded inputs match. This command calibrates anew (from the shipped profile: a car it still
 fits takes one run), keeps the result in the cache and prints it; --out FILE also writes it

@@ -25,8 +25,7 @@ say which (study.paper.sets). Writes into DIR:
                           the report, summary.json and load_split.png read it
 
 Accuracy on demand (skip it with --no_verify), --refine global (the default): every run is
-repeated at dt/2 and dt/4, and the
-runs whose deciding outcomes have not converged within their tolerances
+repeated at dt/2 and dt/4, and the runs whose deciding outcomes have not converged within their tolerances
 (``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
 a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
 (``sweep.refine``). Every error is a run's own difference between steps plus the solver's: a

@@ -10,7 +10,7 @@
 The manoeuvre adapts to the car: a launch left out is the paper's 3 s or as long as the car's
 drive allows (scene.launch); a lane change without amplitude_m and second_lobe has its rack
 calibrated for the car the first time its inputs are seen (a few runs, kept in the calibration
-cache: python -m drake_car.sim.lane_change_cache), and scene.yaml holds what ran. A run that
+cache: drake-car-cache), and scene.yaml holds what ran. A run that
 does not do what its manoeuvre says (its speed at place a, a lane change's shift or its
 parallel end: scene.manoeuvre_targets) is warned of on stderr. Bad input (a scene key, a
 value out of range, a tyre file, an output folder): one line on stderr naming it, exit status
