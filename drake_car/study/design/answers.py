@@ -209,8 +209,9 @@ def _rack_words(study, adapted=(), shipped_rack=None):
     ``adapted`` says so, ``study.design.base_car``), or as the base scene gives it."""
     m, shipped = study.base.manoeuvre, is_paper_car(study)
     if any(words.startswith("the rack calibrated") for words in adapted):
-        return (f"the rack profile calibrated for this car ({1e3 * m.amplitude_m:.2f} mm, second "
-                f"lobe {m.second_lobe:.3f}: {m.shift_m:g} m sideways at the base's speed)")
+        return (f"the rack profile calibrated for this car on the study's own timeline "
+                f"({1e3 * m.amplitude_m:.2f} mm, second lobe {m.second_lobe:.3f}: {m.shift_m:g} m "
+                "sideways; --quick's shortened lane change then moves it less)")
     amplitude, lobe = shipped_rack or (m.amplitude_m, m.second_lobe)
     if (m.amplitude_m, m.second_lobe) != (amplitude, lobe):
         return (f"its rack profile as the base scene gives it ({1e3 * m.amplitude_m:.2f} mm, "
