@@ -112,7 +112,7 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None, smoke=None, adapte
             "accuracy": acc,
             "answers": answers.answers(study, rows, sobol, jam_states, mitigations, noise,
                                      lines),
-            "method": answers.method(study, adapted, shipped_profile()),
+            "method": answers.method(study, adapted, shipped_profile(), smoke=bool(smoke)),
             "manoeuvre_adapted": list(adapted),
             "runs": {"total": len(rows), "distinct": len({r["hash"] for r in rows}),
                      "reused": sweep["reused"], "failed": len(failed),

@@ -204,14 +204,15 @@ def line_values(line):
     return seen
 
 
-def _rack_words(study, adapted=(), shipped_rack=None):
+def _rack_words(study, adapted=(), shipped_rack=None, smoke=False):
     """How the rack ran: calibrated for the car (the shipped one's, or this car's where
     ``adapted`` says so, ``study.design.base_car``), or as the base scene gives it."""
     m, shipped = study.base.manoeuvre, is_paper_car(study)
     if any(words.startswith("the rack calibrated") for words in adapted):
         return (f"the rack profile calibrated for this car on the study's own timeline "
                 f"({1e3 * m.amplitude_m:.2f} mm, second lobe {m.second_lobe:.3f}: {m.shift_m:g} m "
-                "sideways; --quick's shortened lane change then moves it less)")
+                "sideways" + ("; --quick's shortened lane change moves it less)" if smoke
+                              else ")"))
     amplitude, lobe = shipped_rack or (m.amplitude_m, m.second_lobe)
     if (m.amplitude_m, m.second_lobe) != (amplitude, lobe):
         return (f"its rack profile as the base scene gives it ({1e3 * m.amplitude_m:.2f} mm, "
@@ -221,7 +222,7 @@ def _rack_words(study, adapted=(), shipped_rack=None):
             "for this one: its lane change need not be the paper's 3.7 m")
 
 
-def method(study, adapted=(), shipped_rack=None):
+def method(study, adapted=(), shipped_rack=None, smoke=False):
     """How the study was made (the base scene's manoeuvre, equilibrium, step); ``adapted``:
     what was adapted to the user's car (``study.design.base_car``), ``shipped_rack`` the
     shipped car's calibrated (amplitude_m, second_lobe)."""
@@ -230,7 +231,7 @@ def method(study, adapted=(), shipped_rack=None):
     where = "" if shipped else " with the shipped car (not measured on this car)"
     return [
         f"Every run: the lane change of the base scene ({t.steer_s:g} s at {t.speed_kph:g} "
-        f"km/h, {_rack_words(study, adapted, shipped_rack)}, scaled by the severity factor) from static equilibrium, "
+        f"km/h, {_rack_words(study, adapted, shipped_rack, smoke)}, scaled by the severity factor) from static equilibrium, "
         f"with rest {t.settle_s:g} s, speed-up {t.speed_up_s:g} s, straight {t.straight_s:g} s "
         f"and {t.calm_s:g} s after the manoeuvre (the paper's: 0.8, 3.0, 1.2 and 2.6 s; the car "
         "starts at rest in static equilibrium, so the rest needs no length of its own). "
