@@ -179,3 +179,20 @@ def test_the_command_puts_the_scene_car_on_the_rig(tmp_path):
     report = (out / "report.md").read_text()  # the same numbers, for a reader
     assert f"N = {expected.normal_N:.1f} N" in report, report[:600]
     assert report.count("\n| 0.") == len(sides) * 2, "a row per rig run (two friction sets)"
+
+
+def test_a_rig_run_whose_loop_cannot_be_analysed_is_a_row_that_says_why():
+    """A variant whose break-aways the loop analysis cannot resolve (the engineer's car at 2 Hz
+    and μs 0.2 gave one resolved half-cycle of the three needed) is a row without forces that
+    says why, not the end of the rig study."""
+    import math
+    from drake_car.sim.rigs.strut import StrutRigOptions
+    from drake_car.study.rig.loops import _row
+    n = 40
+    still = {"stroke_m": np.zeros(n), "load_cell_N": np.zeros(n), "normal_N": np.ones(n),
+             "friction_moment_Nm": np.zeros(n)}
+    row = _row(StrutRigOptions(), StrutFrictionParameters(mu_s=0.2, mu_d=0.15), still,
+               CarParameters())
+    assert all(math.isnan(row[k]) for k in ("breakaway_N", "sliding_N", "apparent_mu_s",
+                                            "mu_d_measured"))
+    assert "the stroke does not move" in row["note"]

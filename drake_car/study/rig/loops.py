@@ -10,7 +10,7 @@ from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.sim.rigs.at_rest import strut_at_rest
 from drake_car.sim.rigs.strut import (
     StrutRigOptions, rest_normal_force_N, run_strut_rig, simulate_strut_rig)
-from drake_car.study.rig.analysis import loop_statistics
+from drake_car.study.rig.analysis import LoopError, loop_statistics
 from drake_car.study.rig.fit import fit_measured_loop
 
 FRICTION_SETS = ((0.2, 0.15), (0.4, 0.3))  # the paper's dry sets
@@ -48,17 +48,27 @@ def scene_law(scene):
 
 
 def _row(options, law, history, car):
-    stats = loop_statistics(history["stroke_m"], history["load_cell_N"], history["normal_N"],
-                            sample_period_s=options.time_step_s)
+    """One run's row; a loop whose break-aways the analysis cannot resolve (a small stroke at
+    this car's side load: its reversals stay within the creep) gets no forces, and says why."""
+    try:
+        stats = loop_statistics(history["stroke_m"], history["load_cell_N"], history["normal_N"],
+                                sample_period_s=options.time_step_s)
+    except LoopError as error:
+        stats, note = None, str(error)
+    else:
+        note = ""
+    nan = float("nan")
     return {"mu_s": law.mu_s, "mu_d": law.mu_d, "side_force_N": options.side_force_N,
             "amplitude_m": options.stroke_amplitude_m,
             "frequency_hz": options.stroke_frequency_hz,
             "rotation_amplitude_rad": options.rotation_amplitude_rad,
             "normal_N": rest_normal_force_N(car.front, options, law),
-            "breakaway_N": float(np.mean([c.breakaway_N for c in stats.cycles])),
-            "sliding_N": float(np.mean([c.sliding_N for c in stats.cycles])),
-            "apparent_mu_s": stats.apparent_mu_s, "mu_d_measured": stats.mu_d,
-            "max_friction_moment_Nm": float(np.max(np.abs(history["friction_moment_Nm"])))}
+            "breakaway_N": float(np.mean([c.breakaway_N for c in stats.cycles])) if stats else nan,
+            "sliding_N": float(np.mean([c.sliding_N for c in stats.cycles])) if stats else nan,
+            "apparent_mu_s": stats.apparent_mu_s if stats else nan,
+            "mu_d_measured": stats.mu_d if stats else nan,
+            "max_friction_moment_Nm": float(np.max(np.abs(history["friction_moment_Nm"]))),
+            "note": note}
 
 
 def rig_study(scene, *, quick=False):

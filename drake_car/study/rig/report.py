@@ -43,11 +43,18 @@ def report(*, scene_name, at_rest, rows, law, fit, runs, prov):
             f"{r['mu_s']:g}", f"{r['mu_d']:g}", f"{r['side_force_N']:.1f}",
             f"{1e3 * r['amplitude_m']:g}", f"{r['frequency_hz']:g}",
             f"{r['rotation_amplitude_rad']:g}", f"{r['normal_N']:.1f}",
-            f"{r['breakaway_N']:.1f}", f"{r['sliding_N']:.1f}", _ratio(r["apparent_mu_s"]),
+            _force(r["breakaway_N"], r.get("note")), _force(r["sliding_N"]),
+            _ratio(r["apparent_mu_s"]),
             _ratio(r["mu_d_measured"]), f"{r['max_friction_moment_Nm']:.2f}"]) + " |")
     lines += ["", "Figures: `loops.png` (load cell force against stroke), `side_load.png` "
               "(break-away and sliding force against side force, with μ·N of eq. 4).", ""]
     return "\n".join(lines)
+
+
+def _force(value, note=None):
+    if math.isfinite(value):
+        return f"{value:.1f}"
+    return f"- ({note})" if note else "-"
 
 
 def _ratio(value):
