@@ -96,9 +96,13 @@ class Runner:
         self.start_time_s = self.root.get_time()
 
     def start(self):
-        """The initial state, then Drake's initialization events."""
-        self.built.set_initial_state(self.root)
-        self.simulator.Initialize()
+        """The initial state, then Drake's initialization events; a Ctrl-C or SIGTERM meanwhile
+        is deferred to their end (``deferred_signals``: Initialize calls the Python systems
+        back from C++, where a SystemExit raised by the signal could be lost and the run go on
+        to exit 0: seen once in CI's killed-run test)."""
+        with deferred_signals():
+            self.built.set_initial_state(self.root)
+            self.simulator.Initialize()
 
     def run(self):
         """``start()`` and ``advance_to(end_time_s)``; returns the runner."""
