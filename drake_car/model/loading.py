@@ -77,16 +77,21 @@ def frame_point(plant, name, instance):
     return frame.body(), frame.GetFixedPoseInBodyFrame().translation()
 
 
+def file_version(path):
+    """(size, modification time) of the file at ``path``, what a read-once cache keys a file's
+    version by; None where it cannot be read (its reader then names the missing file)."""
+    try:
+        stat = path.stat()
+    except OSError:
+        return None
+    return stat.st_size, stat.st_mtime_ns
+
+
 def read_tyre(name):
     """The Magic Formula tyre of property file ``name`` (``tir_path``), read once per process
     for each version of the file (its path, size and modification time)."""
     path = tir_path(name)
-    try:
-        stat = path.stat()
-        version = (stat.st_size, stat.st_mtime_ns)
-    except OSError:
-        version = None  # the reader names the missing file
-    return _read_tyre(str(path), version)
+    return _read_tyre(str(path), file_version(path))
 
 
 @functools.lru_cache(maxsize=32)

@@ -26,7 +26,7 @@ from pydrake.common.yaml import yaml_load
 
 from drake_car.law.checks import ParameterError, checked, excerpt, one_line
 from drake_car.model.hard_points import DERIVED_FROM, HardPointCar, to_parameters
-from drake_car.model.loading import data_path
+from drake_car.model.loading import data_path, file_version
 from drake_car.model.parameters import CarParameters
 from drake_car.scene.guard import check_yaml, read_yaml_file
 from drake_car.scene.raw import SceneError, check_raw, guarded, typed
@@ -70,12 +70,7 @@ def car_of_file(name) -> CarParameters:
     """The car of the car file ``name`` (a fresh copy), read once per process for each version
     of the file (its path, size and modification time)."""
     path = data_path(name)
-    try:
-        stat = path.stat()
-        version = (stat.st_size, stat.st_mtime_ns)
-    except OSError:
-        version = None  # the reader names the missing file
-    return copy.deepcopy(_car_of_file(str(name), str(path), version))
+    return copy.deepcopy(_car_of_file(str(name), str(path), file_version(path)))
 
 
 @functools.lru_cache(maxsize=16)
