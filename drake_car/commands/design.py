@@ -10,8 +10,10 @@ DIR/sweep/ (a rerun reuses every finished run):
   - a Monte Carlo of jam states (random road unevenness before the manoeuvre, hands off);
   - each mitigation over the same states; a sample of all of these at half the step (noise);
   - accuracy on demand where the struts jam (the spec's ``accuracy``: by default the maps',
-    lines' and mitigations' runs at μs >= 0.3): each repeated at 1/2 and 1/4 of its step and
-    halved further until its lasting split and pull converge (--no_verify: not refined).
+    lines', Sobol's and mitigations' runs at μs >= 0.3, and --compare's): each resolves its
+    near-threshold stick-slip events locally, windows at halved steps, in the same sweep
+    (--refine local, the default), or is repeated at 1/2 and 1/4 of its step and halved
+    further until its lasting split and pull converge (--refine global); --no_verify: neither.
 Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/: table.csv
 (one row per run), the maps, lines.png, sobol.png, monte_carlo.png and summary.json.
 
@@ -74,10 +76,11 @@ def main(argv=None):
                         "{spring_offset_m: 0.03}}\"): what it does, with its error")
     p.add_argument("--rerun_failed", action="store_true",
                    help="run the failed runs again (a rerun reuses them otherwise)")
-    p.add_argument("--refine", choices=("local", "global"), default="global",
-                   help="accuracy on demand: the jam cases are halved whole (global), or every "
-                        "run with dry friction resolves its near-threshold events locally "
-                        "(local: its errors cover the windows only, docs/accuracy.md) "
+    p.add_argument("--refine", choices=("local", "global"), default="local",
+                   help="accuracy on demand for the jam cases (the spec's accuracy section): "
+                        "they resolve their near-threshold stick-slip events locally (local: "
+                        "the split's error covers the windows, docs/studies.md), or are halved "
+                        "whole (global: the reference, several times the CPU) "
                         "(default: %(default)s)")
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: the jam cases at the study's step only, every "
@@ -106,21 +109,27 @@ def main(argv=None):
              "mc": runs_of.monte_carlo_scenes(study), "mitigation": runs_of.mitigation_scenes(study)}
     if args.compare is not None:
         parts[design_compare.PART] = design_compare.compare_scenes(study, args.compare)
-    if args.refine == "local" and not args.no_verify:  # every dry run resolves its events
-        parts = {role: {name: (design_local.resolving(study, scene), values)
-                        for name, (scene, values) in part.items()}
-                 for role, part in parts.items()}
+    jam = {} if args.no_verify else jam_cases.jam_scenes(study, parts)
+    local = args.refine == "local" and bool(jam)
+    if local:  # the jam cases resolve their events in the study's own sweep
+        parts = design_local.resolving_parts(study, parts, set(jam))
+        print(f"accuracy on demand: {len(jam)} runs (at μs >= {study.accuracy.jam_mu_s:g} of "
+              f"{', '.join(study.accuracy.parts)}"
+              + (", and --compare's" if design_compare.PART in parts else "")
+              + ") resolve their near-threshold events locally, down to "
+              f"{1e3 * study.accuracy.finest_step_s:g} ms", flush=True)
     named = {name: entry for part in parts.values() for name, entry in part.items()}
-    sampled = {k: v for k, v in parts.items() if k != design_compare.PART}  # its own errors
+    # The half-step noise sample speaks for the runs at the study's step: drawn from them.
+    sampled = {k: {n: e for n, e in v.items() if n not in jam} for k, v in parts.items()
+               if k != design_compare.PART}
     parts["noise"] = runs_of.noise_scenes(study, named, runs_of.noise_sample(study, sampled))
     named |= parts["noise"]
     sweep_dir = args.out / "sweep"
-    jam = {} if args.no_verify or args.refine == "local" else jam_cases.jam_scenes(study, parts)
     with cli.cluster_client(args, len(named)) as client:
         sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, sweep_dir,
                           client=client, rerun_failed=args.rerun_failed)
         refined = None
-        if jam:
+        if jam and not local:
             print(f"accuracy on demand: {len(jam)} runs, at μs >= {study.accuracy.jam_mu_s:g} "
                   f"({', '.join(study.accuracy.parts)})"
                   + (" and --compare's at any μs" if design_compare.PART in parts else "")
@@ -133,14 +142,14 @@ def main(argv=None):
                                                        rerun_failed=args.rerun_failed))
     rows = design_analysis.table(study, parts, sweep_dir)
     noise = design_tables.noise_levels(rows, exclude=set(jam))
-    local = args.refine == "local" and not args.no_verify
     if local:
-        design_local.apply_local(rows, study, noise)
+        design_local.apply(rows, study, noise, set(jam))
     else:
         jam_cases.apply(rows, refined, noise)
     with output_folder(args.out / "study") as out:
         summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began,
-                                          noise, design_local.summary(rows, study) if local
+                                          noise, design_local.summary(rows, study, set(jam))
+                                          if local
                                           else jam_cases.summary(refined, rows, study),
                                           smoke=changes, adapted=adapted)
         summary["scene_text"] = args.scene_text or None

@@ -75,6 +75,8 @@ def apply(rows, refined, noise):
     outcome -> the half-step sample's largest change (the error of the runs not refined)."""
     found = {} if refined is None else refined.outcomes
     for row in rows:
+        row["resolved_by"] = ("halving" if refined is not None and row["status"] == "ok"
+                              and row["name"] in refined.steps_s else "-")
         for key in DECIDING:
             own = found.get((row["name"], key))
             if own is not None and row["status"] == "ok":

@@ -1,18 +1,25 @@
-"""The design study's accuracy on demand, local route (``--refine local``; the default,
-``--refine global``, refines the jam cases by halving their whole step,
-``study.design.jam_cases``): every run with dry
-friction, in every part (maps, lines, Sobol's sample, the Monte Carlo, the mitigations, the
-noise sample), resolves its near-threshold stick-slip events locally (``sim.resolve``, its
-scene's ``simulator.resolve_events``: windows at halved steps down to the spec's
-``accuracy.finest_step_s``), in the study's one sweep.
+"""The design study's accuracy on demand, local route (``--refine local``, the default;
+``--refine global`` halves the jam cases' whole step instead, ``study.design.jam_cases``).
 
-Each row's lasting split then carries the windows' error (``apply_local``): the rods' rest
+Which runs: the jam cases (``jam_cases.jam_scenes``: the runs of the spec's ``accuracy.parts``
+whose μs is at least ``accuracy.jam_mu_s``, and every run of the user's change), the runs whose
+lasting state the step can decide (a jammed strut's lasting split takes one of two branches).
+Each resolves its near-threshold stick-slip events locally (``sim.resolve``: its scene's
+``simulator.resolve_events``, ``resolve_events`` here: windows re-run at halved steps, down to
+the spec's ``accuracy.finest_step_s``), in the study's one sweep. Every other run is at the
+study's step, its errors the half-step noise sample's (drawn from those runs: ``tables.noise_levels``),
+as on the global route. ``accuracy.jam_mu_s: 0`` resolves every dry run of the parts.
+
+A resolved run's lasting split carries the windows' error (``apply``): the rods' rest
 positions' error (per strut, the largest change of a window's rest position under its last
-halving) carried to the split as in the paper's study (``study.paper.local_route``): the left-right
-change of the rods' rest positions (place b less place a) errs by twice the sum of both
-struts' errors, the lasting split by that times the row's own split per left-right change. The
-pull (hands off, after the release) and the rows without a window keep the half-step noise
-sample's level (``tables.noise_levels``)."""
+halving) carried to the split as in the paper's study (``study.paper.local_route``): the
+left-right change of the rods' rest positions (place b less place a) errs by twice the sum of
+both struts' errors, the lasting split by that times the row's own split per left-right change.
+What the windows do not cover is said, not estimated: a resolved run that opened no window, and
+the pull (hands off, after the release; not made of rest positions), keep the noise sample's
+level, and ``*_error_from`` says so. Between windows the run is at its step (measured on
+``--quick``, docs/studies.md: an event the triggers do not flag can still be decided by the
+step)."""
 
 import dataclasses
 import math
@@ -22,8 +29,15 @@ from drake_car.scene.scene import ResolveEvents
 from drake_car.study.design.jam_cases import DECIDING, YES_NO, tolerances
 
 # What the table gets of a run's resolution (``resolution_fields``).
-FIELDS = ("windows", "windows_resolved", "window_finest_step_s", "resolution_cpu_s",
-          "run_cpu_s", *(f"rest_error_{s}_m" for s in SIDES))
+FIELDS = ("windows", "windows_resolved", "window_finest_step_s", "window_steps",
+          "resolution_cpu_s", "run_cpu_s", *(f"rest_error_{s}_m" for s in SIDES))
+# How a row's outcomes were resolved (the table's ``resolved_by``).
+WINDOWS, HALVING, NONE = "windows", "halving", "-"
+
+
+def resolve_events(study):
+    """The jam cases' ``ResolveEvents`` (its triggers: the events near their threshold)."""
+    return ResolveEvents(finest_step_s=study.accuracy.finest_step_s)
 
 
 def resolving(study, scene):
@@ -31,8 +45,14 @@ def resolving(study, scene):
     if scene.friction is None or scene.friction.law.mu_s == 0:
         return scene
     return dataclasses.replace(scene, simulator=dataclasses.replace(
-        scene.simulator,
-        resolve_events=ResolveEvents(finest_step_s=study.accuracy.finest_step_s)))
+        scene.simulator, resolve_events=resolve_events(study)))
+
+
+def resolving_parts(study, parts, names):
+    """``parts`` ({role: {name: (scene, values)}}) with the runs ``names`` resolving."""
+    return {role: {name: ((resolving(study, scene) if name in names else scene), values)
+                   for name, (scene, values) in part.items()}
+            for role, part in parts.items()}
 
 
 def resolution_fields(run):
@@ -42,29 +62,39 @@ def resolution_fields(run):
     windows = r.get("windows") or []
     return {"windows": len(windows), "windows_resolved": sum(w["resolved"] for w in windows),
             "window_finest_step_s": r.get("finest_step_s") or math.nan,
+            "window_steps": r.get("window_steps", 0) if r else 0,
             "resolution_cpu_s": r.get("cpu_s", math.nan) if r else math.nan,
             "run_cpu_s": run.cpu_s if run is not None else math.nan,
             **{f"rest_error_{s}_m": errors.get(f"{s}_translation", math.nan) if windows
                else math.nan for s in SIDES}}
 
 
-def apply_local(rows, study, noise):
+def apply(rows, study, noise, resolved):
     """Each row's deciding outcomes with their errors (see the module), in place; the same
-    columns as ``jam_cases.apply``'s."""
+    columns as ``jam_cases.apply``'s, and ``resolved_by``. ``resolved``: the names of the runs
+    that resolved their events."""
     tolerance = tolerances(study)
     for row in rows:
+        local = row["name"] in resolved and row["status"] == "ok"
+        row["resolved_by"] = WINDOWS if local else NONE
         for key in DECIDING:
             level = noise.get(key, math.nan) if math.isfinite(row[key]) else math.nan
             fields = {f"{key}_error": level, f"{key}_error_from": "noise sample",
                       f"{key}_converged": "-", f"{key}_step_s": row.get("step_s", math.nan),
                       f"{key}_values": ""}
-            error = _split_error(row) if key == "split_change_rel" else None
-            if error is not None and row["status"] == "ok":
-                converged = error <= tolerance[key] and row["windows_resolved"] == row["windows"]
-                fields |= {f"{key}_error": error, f"{key}_error_from": "windows",
-                           f"{key}_converged": YES_NO[converged],
-                           f"{key}_step_s": row["window_finest_step_s"],
-                           f"{key}_values": repr(float(row[key]))}
+            if local and key == "split_change_rel":
+                error = _split_error(row)
+                if error is not None:
+                    converged = (error <= tolerance[key]
+                                 and row["windows_resolved"] == row["windows"])
+                    fields |= {f"{key}_error": error, f"{key}_error_from": "windows",
+                               f"{key}_converged": YES_NO[converged],
+                               f"{key}_step_s": row["window_finest_step_s"],
+                               f"{key}_values": repr(float(row[key]))}
+                elif not row["windows"]:
+                    fields[f"{key}_error_from"] = "noise sample (no window opened)"
+            elif local:
+                fields[f"{key}_error_from"] = "noise sample (not carried from the windows)"
             row |= fields
         row["refine_wall_s"] = math.nan
     return rows
@@ -82,55 +112,87 @@ def _split_error(row):
     return abs(row["split_change_rel"] / change) * 2.0 * sum(errors)
 
 
-def summary(rows, study):
-    """What the local route did and cost, for the report: per part, the runs with dry friction,
-    those with windows, windows (resolved), the finest step a window used, the windows' CPU
-    time; the rows whose split did not converge."""
-    by_part = {}
+def summary(rows, study, resolved):
+    """What the local route did and cost, for the report: per part, its runs, those resolved,
+    with windows, windows (resolved), the finest step a window used, the CPU time of the
+    part's runs, of its resolved runs and of their windows; the study's runs' CPU in all and
+    the windows' share (what resolving added); the resolved rows whose split did not converge
+    and those that opened no window. Rows of equal runs (one hash) count once."""
+    by_part, seen = {}, set()
+    totals = {"run_cpu_s": 0.0, "resolution_cpu_s": 0.0}
     for row in rows:
         if row["status"] != "ok" or not math.isfinite(row.get("run_cpu_s", math.nan)):
             continue
-        part = by_part.setdefault(row["role"], {"runs": 0, "with_windows": 0, "windows": 0,
-                                                "resolved": 0, "finest_step_s": math.inf,
-                                                "resolution_cpu_s": 0.0, "run_cpu_s": 0.0})
+        part = by_part.setdefault(row["role"], {
+            "runs": 0, "resolved": 0, "with_windows": 0, "windows": 0, "windows_resolved": 0,
+            "finest_step_s": math.inf, "run_cpu_s": 0.0, "resolved_run_cpu_s": 0.0,
+            "resolution_cpu_s": 0.0})
         part["runs"] += 1
+        if row["hash"] in seen:
+            continue
+        seen.add(row["hash"])
+        part["run_cpu_s"] += row["run_cpu_s"]
+        totals["run_cpu_s"] += row["run_cpu_s"]
+        if row["name"] not in resolved:
+            continue
+        part["resolved"] += 1
+        part["resolved_run_cpu_s"] += row["run_cpu_s"]
         part["with_windows"] += row["windows"] > 0
         part["windows"] += row["windows"]
-        part["resolved"] += row["windows_resolved"]
+        part["windows_resolved"] += row["windows_resolved"]
         if row["windows"]:
             part["finest_step_s"] = min(part["finest_step_s"], row["window_finest_step_s"])
             part["resolution_cpu_s"] += row["resolution_cpu_s"]
-        part["run_cpu_s"] += row["run_cpu_s"]
+            totals["resolution_cpu_s"] += row["resolution_cpu_s"]
+    mine = [r for r in rows if r["name"] in resolved and r["status"] == "ok"]
     unconverged = [{"name": r["name"], "role": r["role"], "value": r["split_change_rel"],
-                    "error": r["split_change_rel_error"]} for r in rows
+                    "error": r["split_change_rel_error"]} for r in mine
                    if r.get("split_change_rel_converged") == "no"]
-    return {"route": "local", "finest_step_s": study.accuracy.finest_step_s,
-            "tolerances": tolerances(study), "by_part": by_part, "not_converged": unconverged}
+    a = study.accuracy
+    return {"route": "local", "jam_mu_s": a.jam_mu_s, "parts": list(a.parts),
+            "compare": any(r["role"] == "compare" for r in mine),
+            "finest_step_s": a.finest_step_s, "tolerances": tolerances(study),
+            "runs": len(mine), "by_part": by_part, "totals": totals,
+            "not_converged": unconverged,
+            "no_window": [r["name"] for r in mine if not r["windows"]]}
 
 
 def report_lines(acc):
     """The report's section on the local route."""
+    t = acc["totals"]
+    share = t["resolution_cpu_s"] / t["run_cpu_s"] if t["run_cpu_s"] else math.nan
     lines = ["## Accuracy where the struts jam", "",
-             "Every run with dry friction resolved its near-threshold stick-slip events "
-             "locally: windows re-run at halved steps, down to "
-             f"{1e3 * acc['finest_step_s']:g} ms, until their outcome no longer changed "
-             "(`sim.resolve`); the lasting split's error is the windows' (the rods' rest "
-             "positions' error carried to the split), the pull's and a run without a window's "
-             "the half-step noise sample's (`table.csv`: `*_error`, `*_error_from`, `windows`, "
-             "`rest_error_*_m`, `resolution_cpu_s`).", "",
-             "| part | runs | with windows | windows (resolved) | finest step | CPU of the runs "
-             "(of it, windows) |", "|---|---|---|---|---|---|"]
+             f"The {acc['runs']} runs of {', '.join(acc['parts'])} at μs ≥ "
+             f"{acc['jam_mu_s']:g}" + (" and of the user's change (--compare) at any μs"
+                                       if acc.get("compare") else "")
+             + " resolved their near-threshold stick-slip events locally: windows re-run at "
+             f"halved steps, down to {1e3 * acc['finest_step_s']:g} ms, until their outcome no "
+             "longer changed (`sim.resolve`); the rest of each run is at the study's step. "
+             "Their lasting split's error is the windows' (the rods' rest positions' error "
+             "carried to the split); a run that opened no window, their pull, and every other "
+             "run keep the half-step noise sample's (`table.csv`: `resolved_by`, `*_error`, "
+             "`*_error_from`, `windows`, `rest_error_*_m`, `resolution_cpu_s`). The windows "
+             f"took {t['resolution_cpu_s']:.0f} s of CPU, {100 * share:.0f} % of the "
+             f"{t['run_cpu_s']:.0f} s the study's runs took (their simulation loops; equal runs "
+             "counted once).", "",
+             "| part | runs | resolved | with windows | windows (resolved) | finest step | "
+             "CPU of the runs | of the resolved runs (of it, windows) |",
+             "|---|---|---|---|---|---|---|---|"]
     for role, p in acc["by_part"].items():
         finest = "-" if not math.isfinite(p["finest_step_s"]) else \
             f"{1e3 * p['finest_step_s']:g} ms"
-        lines.append(f"| {role} | {p['runs']} | {p['with_windows']} | {p['windows']} "
-                     f"({p['resolved']}) | {finest} | {p['run_cpu_s']:.0f} s "
+        lines.append(f"| {role} | {p['runs']} | {p['resolved']} | {p['with_windows']} | "
+                     f"{p['windows']} ({p['windows_resolved']}) | {finest} | "
+                     f"{p['run_cpu_s']:.0f} s | {p['resolved_run_cpu_s']:.0f} s "
                      f"({p['resolution_cpu_s']:.0f} s) |")
     lines.append("")
     if acc["not_converged"]:
         lines += [f"The lasting split did not converge within "
                   f"{100 * acc['tolerances']['split_change_rel']:g} % in "
-                  f"{len(acc['not_converged'])} runs: "
+                  f"{len(acc['not_converged'])} resolved runs: "
                   + ", ".join(f"{u['name']} ({100 * u['value']:+.2f} ± "
                               f"{100 * u['error']:.2f} %)" for u in acc["not_converged"]), ""]
+    if acc["no_window"]:
+        lines += [f"Resolved runs that opened no window (no event near its threshold; their "
+                  f"error is the noise sample's): {', '.join(acc['no_window'])}.", ""]
     return lines

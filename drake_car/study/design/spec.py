@@ -90,17 +90,20 @@ PARTS = ("map", "line", "sobol", "mc", "mitigation")
 @dataclasses.dataclass
 class Accuracy:
     """Accuracy on demand for the jam cases: every run of ``parts`` whose μs is at least
-    ``jam_mu_s`` is repeated at half and a quarter of its step and halved further (down to
-    ``finest_step_s``, within ``budget_s`` of wall) until its lasting split and its pull agree
-    within their tolerances (``sweep.refine``). Where a dry strut jams, its lasting state takes
+    ``jam_mu_s`` resolves its near-threshold stick-slip events locally, at halved steps down to
+    ``finest_step_s`` (``--refine local``, ``study.design.resolved_runs``), or is repeated at
+    half and a quarter of its step and halved further (down to ``finest_step_s``, within
+    ``budget_s`` of wall) until its lasting split and its pull agree within their tolerances
+    (``--refine global``, ``sweep.refine``). Where a dry strut jams, its lasting state takes
     one of two branches that the step decides (the paper's study: 5.0 or 6.7 % of the corner
     load). ``jam_mu_s`` [EST]: the paper's "very high" set 3 is μs 0.4, its "practically
-    realistic" 0.2; runs below it are spoken for by the half-step noise sample (the pairs of
-    refined runs left out of it). Sobol's sample is left out by default: its 200-odd jam points would cost 6-16
-    times their runs."""
+    realistic" 0.2; runs below it are spoken for by the half-step noise sample (drawn from
+    them). Sobol's sample is a part like the others (its 196 jam points cost 6-16 times their
+    runs on the global route)."""
 
     jam_mu_s: float = 0.3
-    parts: list[str] = dataclasses.field(default_factory=lambda: ["map", "line", "mitigation"])
+    parts: list[str] = dataclasses.field(
+        default_factory=lambda: ["map", "line", "sobol", "mitigation"])
     # 0.1 % of the corner load: a tenth of the study's 1 % threshold, a seventeenth of the gap
     # between the two branches of a jammed strut's lasting split (5.0 or 6.7 %).
     split_tolerance: float = 1e-3
