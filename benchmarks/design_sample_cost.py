@@ -7,10 +7,11 @@ runs' worker times over workers × wall). The refinement of the jam cases is not
 cost is in the study's own report). An estimate [EST]: a sample, not the study; run it on a
 quiet machine and compare with the study's report.
 
-``--resolve``: the same sample run twice more, alternately as the study runs it by default
-(every run with dry friction resolving its events locally, ``study.design.resolved_runs``) and without
-(``--no_verify``); the runs' CPU time (Run.cpu_s: the simulation loop, windows included) per
-part and in all, and their ratio: what the local route costs over the study's runs.
+``--resolve``: the same sample run twice more, alternately with every run with dry friction
+resolving its events locally (``study.design.resolved_runs``; the study's default resolves its
+jam cases only) and without (``--no_verify``); the runs' CPU time (Run.cpu_s: the simulation
+loop, windows included) per part and in all, and their ratio: what resolving costs a run of
+each part (the whole study's jobs: ``benchmarks/design_cost.py``).
 
   python benchmarks/design_sample_cost.py [--per_part 6] [--workers 2] [--resolve]
 """

@@ -330,15 +330,24 @@ def test_design_study_quick_end_to_end(tmp_path):
     assert len(table) - 1 == summary["runs"]["total"]
     with open(study / "table.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    # Accuracy on demand (the default, global route): every jam case of the refined parts ran
-    # at three steps or more and says whether it converged; the others carry the noise
-    # sample's error.
-    refined = [r for r in rows if r["split_change_rel_error_from"] == "own steps"]
-    assert refined and all(float(r["friction.law.mu_s"]) >= 0.3 for r in refined)
-    assert all(r["split_change_rel_converged"] in ("yes", "no") for r in refined)
-    assert all(len(r["split_change_rel_values"].split(";")) >= 3 for r in refined)
-    assert all(float(r["split_change_rel_step_s"]) <= float(r["step_s"]) / 4 for r in refined)
-    assert summary["accuracy"]["runs"] == len(refined)
+    # Accuracy on demand (the default, local route): every jam case of the refined parts
+    # (Sobol's included) resolved its events, its row from that run; the others at the study's
+    # step with the noise sample's error, the noise sample drawn from them.
+    resolved = [r for r in rows if r["resolved_by"] == "windows"]
+    jam_roles = set(summary["accuracy"]["parts"])
+    assert {r["name"] for r in resolved} == {
+        r["name"] for r in rows if r["role"] in jam_roles and float(r["friction.law.mu_s"]) >= 0.3}
+    assert any(r["role"] == "sobol" for r in resolved)
+    assert summary["accuracy"]["route"] == "local" and summary["accuracy"]["runs"] == len(resolved)
+    for r in resolved:
+        record = json.loads((out / "sweep" / "runs" / r["hash"] / "run.json").read_text())
+        assert record["resolution"]["window_count"] == int(r["windows"])
+        assert r["split_change_rel_error_from"] in ("windows", "noise sample (no window opened)")
+    assert any(r["split_change_rel_error_from"] == "windows" for r in resolved)
+    others = [r for r in rows if r["resolved_by"] == "-"]
+    assert all(r["split_change_rel_error_from"] == "noise sample" for r in others)
+    names = {r["name"] for r in resolved}
+    assert not any(r["of"] in names for r in rows if r["role"] == "noise")
     # Rerunning reuses every finished run (rows of equal scenes share one run).
     with open(study / "table.csv", newline="") as f:
         runs = {row["hash"] for row in csv.DictReader(f)}
@@ -346,6 +355,28 @@ def test_design_study_quick_end_to_end(tmp_path):
     again = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert again.returncode == 0
     assert json.loads((study / "summary.json").read_text())["runs"]["reused"] == len(runs)
+
+
+@pytest.mark.slow
+def test_design_study_quick_on_the_global_route(tmp_path):
+    """--refine global, the reference: every jam case ran at three steps or more and says
+    whether it converged; the others carry the noise sample's error."""
+    out = tmp_path / "design"
+    result = subprocess.run([sys.executable, str(ROOT / "experiments" / "design.py"), "--out",
+                             str(out), "--quick", "--refine", "global"], cwd=ROOT,
+                            capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr[-3000:]
+    summary = json.loads((out / "study" / "summary.json").read_text())
+    with open(out / "study" / "table.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    refined = [r for r in rows if r["split_change_rel_error_from"] == "own steps"]
+    assert refined and all(float(r["friction.law.mu_s"]) >= 0.3 for r in refined)
+    assert all(r["resolved_by"] == "halving" for r in refined)
+    assert any(r["role"] == "sobol" for r in refined)
+    assert all(r["split_change_rel_converged"] in ("yes", "no") for r in refined)
+    assert all(len(r["split_change_rel_values"].split(";")) >= 3 for r in refined)
+    assert all(float(r["split_change_rel_step_s"]) <= float(r["step_s"]) / 4 for r in refined)
+    assert summary["accuracy"]["runs"] == len(refined)
 
 
 def test_the_study_runs_on_another_tyre_file_laid_over_its_base_scene():

@@ -113,8 +113,8 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
     if len(mitigations) > 1 and mitigations[0]["runs"]:
         lines.append(_mitigation_answer(mitigations, 100 * noise.get("split_change_rel", 0.0)))
     if noise:
-        lines.append("Numerical error: the runs where the struts jam carry their own (refined "
-                     "until they converge; see \"Accuracy where the struts jam\"); the others "
+        lines.append("Numerical error: the runs where the struts jam carry their own (see "
+                     "\"Accuracy where the struts jam\" for how it was made); the others "
                      "the half-step sample's largest change, up to "
                      f"{100 * noise.get('split_change_rel', math.nan):.2f} % in the split and "
                      f"{noise.get('pull_deg', math.nan):.2f} deg in the pull. Boundaries and "

@@ -1,7 +1,7 @@
 """What the user's own design change does (``drake-car-design --compare YAML``), with its error:
 the change (YAML laid over the study's base scene, e.g. ``"car: {front: {spring_offset_m:
 0.03}}"``) against the car as it is, on the flat road hands off at each of the study's line μs
-(``compare_scenes``: always refined for accuracy, ``jam_cases``), and state by state over the
+(``compare_scenes``: always made accurate, with the jam cases), and state by state over the
 Monte Carlo's jam states as one more mitigation (``with_compare``). The answer: the lasting
 split (N and % of the corner load), the pull and the steering-wheel torque, with and without
 the change, each with its run's own error, and whether the difference exceeds the errors."""
@@ -101,8 +101,9 @@ def compare_lines(c, smoke=False):
         return []
     lines = [f"## Your change: `{c['text']}`" + (" (smoke test: not findings)" if smoke else ""),
              "", "Laid over the base scene, against the car as it is, each on the flat road "
-             "after the lane change, hands off; each run at the finest step it tried with its "
-             "own error (converged: the last difference; else not converged). The split is the "
+             "after the lane change, hands off; each run made accurate with the jam cases and "
+             "carrying its own error (\"Accuracy where the struts jam\" says how: windows "
+             "resolved locally, or the run's own halvings). The split is the "
              "lasting change of Fz_fl - Fz_fr from place a to b; the steering-wheel torque "
              "the lasting change the driver holds before letting go (± the half-step noise); "
              "the pull the heading change hands off. A difference counts where it exceeds the "
