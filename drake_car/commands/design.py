@@ -26,8 +26,9 @@ and the steering-wheel torque. --quick is a smoke test of every part, on a short
 says so on every page (report, figure titles, summary.json, stderr) and its numbers are not
 findings.
 
-  drake-car-design --out results/design          (80 min on this 2-core
-      machine beside other work: 39 for its runs, 37 converging its jam cases)
+  drake-car-design --out results/design          (its runs: 39 min on this 2-core
+      machine beside other work; resolving the jam cases adds about 0.8 of that [EST from
+      a sample, docs/studies.md]; --refine global added 37 min without Sobol's jam points)
   drake-car-design --out /tmp/design --quick     (a smoke run, ~2 min)
   drake-car-design --out results/design_sedan \
       --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
@@ -113,11 +114,8 @@ def main(argv=None):
     local = args.refine == "local" and bool(jam)
     if local:  # the jam cases resolve their events in the study's own sweep
         parts = design_local.resolving_parts(study, parts, set(jam))
-        print(f"accuracy on demand: {len(jam)} runs (at μs >= {study.accuracy.jam_mu_s:g} of "
-              f"{', '.join(study.accuracy.parts)}"
-              + (", and --compare's" if design_compare.PART in parts else "")
-              + ") resolve their near-threshold events locally, down to "
-              f"{1e3 * study.accuracy.finest_step_s:g} ms", flush=True)
+        print(design_local.announcement(study, len(jam), design_compare.PART in parts),
+              flush=True)
     named = {name: entry for part in parts.values() for name, entry in part.items()}
     # The half-step noise sample speaks for the runs at the study's step: drawn from them.
     sampled = {k: {n: e for n, e in v.items() if n not in jam} for k, v in parts.items()
