@@ -1,6 +1,6 @@
 """Accuracy on demand, local against global, on the main job (``drake-car-paper``): the job run
-without accuracy on demand (``--no_verify``), with its events resolved locally (``--refine
-local``) and with its runs halved whole (``--refine global``, the default and the reference), each
+without accuracy on demand (``--no_verify``), with its slips resolved locally (``--refine
+local``, the default) and with its runs halved whole (``--refine global``, the reference), each
 in a process of its own, alternately, ``--repeats`` times; the CPU time of each job (all its
 processes: the job's own ``summary.json`` cpu_s, RUSAGE_SELF + RUSAGE_CHILDREN, the Dask
 workers included), the medians and their ratios; then every deciding outcome of the two

@@ -131,7 +131,11 @@ def test_main_job_smoke(tmp_path):
         h = read_csv(out / f"{name}.csv")
         assert all(np.all(np.isfinite(v)) for k, v in h.items() if k != "phase")
         assert "steer_s: 0.12" in (out / name / "scene.yaml").read_text()
-    assert "MeshcatReplay" in (out / "a_3" / "scene.yaml").read_text()
+    # Each run's folder and CSV are the run at the finest step it was refined to (the numbers'
+    # run), its scene.yaml that run's; the replay, made at the scene's own step, kept beside.
+    for name in ("a_1", "a_3"):
+        step = outcomes[(name, "split_change")]["step_s"]
+        assert f"    time_step: {step}\n" in (out / name / "scene.yaml").read_text(), name
     assert (out / "a_3" / "replay.html").stat().st_size > 0
     for name in ("fig13.png", "fig14_a.png", "fig15_b.png", "fig16.png", "diagram.svg"):
         assert (out / name).stat().st_size > 0, name

@@ -178,10 +178,12 @@ def test_report_defines_its_terms_first_and_gives_thresholds_errors_and_figures(
 
 
 def test_an_undecided_claim_says_so_with_the_finest_step_and_the_values():
-    # Claim 3's rods: 4 mm left-right at a 0.1 mm threshold, but jumping by 3 mm between the
-    # steps: not converged, so undecided, with every step's value.
+    # Claim 3's rods: 4 mm left-right at a 0.1 mm threshold, but 0.04 mm at the step between:
+    # not converged, and its spread straddles the threshold, so undecided, with every step's
+    # value. (Values that jump but stay on one side by more than their spread decide it:
+    # tests/test_refine.py.)
     variant = {"asymmetric_end": 0.002}
-    finer = (study_of(asymmetric_end=0.0005), study_of(asymmetric_end=0.002))
+    finer = (study_of(asymmetric_end=0.00002), study_of(asymmetric_end=0.002))
     s, text = made(study_of(**variant), finer)
     assert s["claims"][2]["decided"] is False
     row = next(line for line in text.splitlines() if line.startswith("| 3 |"))

@@ -223,6 +223,38 @@ def test_a_claim_is_undecided_when_its_margin_is_within_the_error():
     assert claim_measures(at_one_step(base), roles)[4][0]["decided"] is None
 
 
+def test_an_unconverged_number_decides_its_claim_by_more_than_its_spread_and_a_count_does_not():
+    study = study_of()
+    roles = {n: (r.case, r.friction) for n, r in study.items()}
+    base = study_outcomes({n: r.columns for n, r in study.items()}, roles, TIMELINE)
+    # Issue 32: b_3's claim-2 shift at the last three steps, differences of 3 µm that do not
+    # shrink at first order: not converged, its error the spread (5.5 µm), its margin over the
+    # 0.1 mm threshold 1300 times that: decided. The same spread straddling the threshold: not.
+    for shifts, decided in (((7.3356e-3, 7.3332e-3, 7.3301e-3), True),
+                            ((0.1028e-3, 0.1004e-3, 0.0973e-3), False)):
+        levels = []
+        for k in range(3):
+            level = dict(base)
+            for n in study:
+                for side in ("left", "right"):
+                    if (n, f"shift_{side}_m") in level:
+                        level[(n, f"shift_{side}_m")] = (shifts[k], "m")
+            levels.append(level)
+        two = claim_measures(_table(levels), roles)[1][0]
+        assert two["converged"] is False and two["error"] == pytest.approx(5.5e-6)
+        assert two["decided"] is decided, (two["margin"], two["error"])
+    # A count that has not converged (0, 1, 0) decides nothing, whatever its margin.
+    levels = []
+    for k, count in enumerate((0.0, 1.0, 0.0)):
+        level = dict(base)
+        for key in list(level):
+            if key[1].startswith("mu1_reaches_"):
+                level[key] = (count, "count")
+        levels.append(level)
+    six = claim_measures(_table(levels), roles)[5]
+    assert six and all(m["decided"] is False for m in six if m["decides"])
+
+
 def test_a_run_that_fails_is_refined_no_further_and_the_others_go_on():
     # A simulator that loses the jammed run from 0.25 ms on (it raised there): the loop must
     # not ask for it again and again, must refine the others, and must say which failed.

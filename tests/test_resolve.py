@@ -127,6 +127,13 @@ def test_a_resolved_run_is_a_pure_function_of_its_scene_and_says_what_it_did():
     assert np.all(np.diff(events["time_s"]) >= 0) and events["lost"] == 0
     inside = [s for s, w in zip(events["step_s"], events["window"]) if w >= 0]
     assert inside and max(inside) < scene.time_step_s, "a window's events are its finer steps'"
+    slips = [w for pair, kind, w in zip(events["pair"], events["kind"], events["window"])
+             if pair.endswith("_translation") and kind == "break_away"]
+    assert slips and min(slips) >= 0, "events: all: every slip of a strut is in a window"
+    for w in r["windows"]:
+        assert set(w["inherited_errors"]) <= set(w["position_errors"]), w
+        assert all(e >= w["inherited_errors"].get(p, 0.0)
+                   for p, e in w["position_errors"].items()), "what it inherits is in its error"
     again = simulate(scene)
     for column, values in run.history.items():
         assert np.array_equal(again.history[column], values) if column != "phase" \

@@ -24,18 +24,18 @@ say which (study.paper.sets). Writes into DIR:
                           steps_tried_s, values_by_step, run_wall_s, solver_error, limited_by;
                           the report, summary.json and load_split.png read it
 
-Accuracy on demand (skip it with --no_verify), --refine global (the default): every run is
-repeated at dt/2 and dt/4, and the runs whose deciding outcomes have not converged within their tolerances
-(``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again, all the runs of
-a round in one sweep, until they converge, or --finest_step_s or --budget_s is reached
-(``sweep.refine``). Every error is a run's own difference between steps plus the solver's: a
-last round runs each run at its finest step with SAP's tolerance loosened twice
-(``systems.sap_ballast``; --no_solver_axis leaves it out); a claim is decided only where its
-margin exceeds it, else the report says "undecided at the finest step tried". --refine local:
-the runs with dry friction resolve their near-threshold stick-slip events locally
-(``sim.resolve``: windows re-run at halved steps until their outcome no longer changes;
-``study.paper.local_route``) and the others are refined globally, for a sixth of the CPU; its
-errors cover the windows only (see --refine's help). Each round of runs goes as one sweep
+Accuracy on demand (skip it with --no_verify), --refine local (the default): every run with
+dry friction resolves each slip of its struts in a window re-run at halved steps until where
+the rods rest converges, with the error each window inherits from the last one and from the gap
+before it (``sim.resolve``, ``study.paper.local_route``); the runs without dry friction are
+repeated at dt/2 and dt/4 (the global route). --refine global: every run is repeated at dt/2
+and dt/4, and the runs whose deciding outcomes have not converged within their tolerances
+(``study.paper.outcomes.TOLERANCES``, each with its reason) are halved again until they
+converge, or --finest_step_s or --budget_s is reached (``sweep.refine``), its errors a run's
+own differences between steps plus the solver's (a last round at SAP's tolerance loosened
+twice, ``systems.sap_ballast``; --no_solver_axis leaves it out). A claim is decided where its
+margin exceeds its whole error (a value that did not converge: the spread of its last three
+steps or levels), else the report says "undecided". Each round of runs goes as one sweep
 (``sweep.runner.run_scenes``: in parallel on one cluster for the whole job, a progress bar over
 the runs on a terminal): the first round is the runs, their dt/2 and dt/4 repetitions and the
 same runs with the paper's drive. Options and scenes: --scene_text is laid over every run's
@@ -82,13 +82,11 @@ def main(argv=None):
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: every run at its scene's step only, no "
                         "numerical error estimated")
-    p.add_argument("--refine", choices=("local", "global"), default="global",
-                   help="accuracy on demand by halving every run's whole step (global, the "
-                        "reference), or by resolving the dry runs' near-threshold events "
-                        "locally (local: 1/6 of the CPU, but between its windows the step's "
-                        "error is not estimated, and a branch the launch takes at a finer step "
-                        "is missed: a_2's return 11.75 mm against the global 12.21 mm, "
-                        "docs/accuracy.md) (default: %(default)s)")
+    p.add_argument("--refine", choices=("local", "global"), default="local",
+                   help="accuracy on demand by resolving every slip of the dry runs' struts "
+                        "in a window at halved steps, with what each window inherits and the "
+                        "gap before it (local), or by halving every run's whole step (global, "
+                        "the reference, several times the CPU) (default: %(default)s)")
     p.add_argument("--finest_step_s", type=cli.positive("--finest_step_s"), default=3.125e-5,
                    help="the finest step accuracy on demand may try (default: %(default)g)")
     p.add_argument("--budget_s", type=cli.positive("--budget_s"), default=1800.0,

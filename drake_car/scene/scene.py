@@ -216,17 +216,19 @@ Manoeuvre = typing.Union[(*typing.get_args(manoeuvres.Manoeuvre), *PATH_MANOEUVR
 class ResolveEvents:
     """Stick-slip events resolved locally (``sim.resolve``): where a friction pair of the struts
     (``pairs``: translation, the rods' sliding, which decides where they rest; or all, rotation
-    too) has an event whose outcome the step can decide (the pair reached its full static
-    friction, or crossed the static band in more than one step), the run resolves a window
-    around it at halved steps until the window's outcome (each pair's slips and sticks, where
-    it rests: within ``position_tolerance_m``, or ``angle_tolerance_rad`` for rotation, and how
-    close each came to breaking away) no longer changes with a further halving, down to
-    ``finest_step_s``, and goes on at its own step from the finest window's end. A window
-    starts ``lead_s`` before its event, and before every slip of the pairs that ended within
-    ``lookback_s`` before it (they set the loads it is decided by); it ends once every pair
-    has been static, short of its full creep, for ``hold_s``."""
+    too) slips (``events``: "all", every break-away or full creep; "near", only those whose
+    outcome looks step-dependent at the run's step: a full creep, or a break-away that crossed
+    the static band in more than one step), the run resolves a window around it at halved steps
+    until the window's outcome (each pair's slips and sticks, where it rests: converged within
+    ``position_tolerance_m``, or ``angle_tolerance_rad`` for rotation, by the global route's rule,
+    and how close each came to breaking away) no longer changes with a further halving, down to
+    ``finest_step_s``, and goes on at its own step from the finest window's end. A window starts
+    ``lead_s`` before its event, and before every slip of the pairs that ended within
+    ``lookback_s`` before it (they set the loads it is decided by); it ends once every pair has
+    been static, short of its full creep, for ``hold_s``."""
 
     pairs: str = "translation"
+    events: str = "all"
     finest_step_s: float = 3.125e-5
     position_tolerance_m: float = 2e-5
     angle_tolerance_rad: float = 1e-4
@@ -236,6 +238,7 @@ class ResolveEvents:
 
     def check(self):
         one_of(self, "pairs", ("translation", "all"))
+        one_of(self, "events", ("all", "near"))
         positive(self, "finest_step_s", "position_tolerance_m", "angle_tolerance_rad",
                  "lead_s", "hold_s")
         nonnegative(self, "lookback_s")

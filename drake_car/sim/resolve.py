@@ -1,48 +1,64 @@
 """Stick-slip events resolved locally: a run goes at its scene's step and resolves, at halved
-steps, only the windows where a friction pair's event is near its threshold
-(``scene.simulator.resolve_events``, a ``ResolveEvents``).
+steps, only the windows around its friction pairs' slips (``scene.simulator.resolve_events``).
 
-Why: a dry strut's lasting state is decided at a few events (DESIGN.md §9-§10), and a step
-costs the same at any size; halving the whole run to resolve them pays for every step of it.
+Why: a dry strut's lasting state is decided at its slips (DESIGN.md §9-§10), and a step costs
+the same at any size: halving the whole run pays for every step of it.
 
 What opens a window (``is_trigger``; events from ``law.friction.events``, which the runner reads
 after every chunk of the monitor's period), for a selected pair (``pairs``: the struts'
-translation pairs by default): a **full creep** it did not break away from within the chunk
-(|Δ| reached Δmax: the static friction is fully mobilised, and its fate is decided by the
-load's excess over capacity, a fraction 1e-4..1e-3 of it), or a **break-away that crossed the
-static band in more than one step** (its velocity change in that step < Δv: a load barely above
-capacity, held back by the fast scheme's implicit damping, Kd·dt of added inertia at low
-velocity, so whether and when it breaks depends on the step). A break-away thrown through the
-band in one step, and a stick, are decided by any step.
+translation pairs by default), by ``events``:
 
-Where a window starts (``window_start``): at a saved state (a checkpoint: every chunk start at
+- "all" (the default): **every break-away**, and every **full creep** it did not break away
+  from within the chunk (|Δ| reached Δmax: the static friction is fully mobilised). Every slip
+  of a selected pair is then run in a window, so the run's rest positions carry an error from
+  its windows throughout: between windows every selected pair is static.
+- "near": only the events whose outcome looks step-dependent at the run's step: a full creep,
+  and a break-away that crossed the static band in more than one step (a load barely above
+  capacity). Cheaper, but blind where the step cannot see the margin: at 1 ms the fast scheme
+  throws every strut break-away of the paper's study through the band in one step, while at
+  0.25 ms a_2's return break-aways creep through it over 45-50 steps, and that return takes
+  another branch from 0.125 ms on (12.22 instead of 11.72 mm, issue 32).
+
+Where a window starts (``window_start``): at a saved state (a checkpoint: a chunk start at
 which every selected pair is static) ``lead_s`` before the event, and before every slip of a
 selected pair that was going on within ``lookback_s`` before it (those slips set the loads the
-event is decided by; measured on b_3: a window from the state at 7.75 s, after the other
-strut's last slip, keeps one branch at every step down to 0.03 ms; one from 7.2 s, before that
-slip, takes the globally converged branch from 0.125 ms), never before the previous window's
-end (a resolved state).
+event is decided by), never before the previous window's end (a resolved state; but see
+``merged`` below).
 
 How it is resolved (``_resolve``, ``judge``): the window is run from that state at level 0 (the
 scene's step), 1, 2, ... (step / 2^k), each level in its own Diagram of the scene at that step
 (built once per run, fed by values: ``sim.transfer``), all to one end: the first chunk end after
 the event at which every selected pair has been static and short of its full creep for
-``hold_s``. A level resolves the window when it agrees with the level before: every selected
-pair slipped and stuck as many times and rests at the end within ``position_tolerance_m`` (or
-``angle_tolerance_rad``) of it; and a pair that is at full creep at the end kept a settled
-reserve (the capacity its force left unused: ``SETTLED``). A window that held a full creep
-must agree so over three levels (two halvings): there the outcome is decided by a margin of a
-fraction of a percent, and two levels agreed on the wrong branch in both jammed runs (b_3 did
-not break away at 1, 0.5 and 0.25 ms and did at 0.125 ms and below; a_3 broke 18 ms earlier
-from 0.125 ms on, and rests 0.07 mm elsewhere). Else the next level, down to
-``finest_step_s``; a window that does not resolve there takes the finest level and says so.
-The run goes on at its step from the resolving level's end state; its history and events in
-the window are that level's. A window's error (per pair) is the change of its rest position
-under the last halving (first-order's estimate of the finer level's error).
+``hold_s``. The last three levels resolve the window when, for every selected pair, they agree
+on how many times it slipped and stuck, each kept a settled reserve where it ends at full
+creep (the capacity its force left unused, moving by at most ``SETTLED`` of itself under the
+last halving), and its rest position has converged by the rule the global route uses on a
+whole run's outcomes (``sim.convergence.classify``, to ``position_tolerance_m`` or
+``angle_tolerance_rad``: the differences shrink at first order, or are below a tenth of the
+tolerance). Three levels, not two, and convergence, not mere agreement: two and three levels
+agreed on a wrong branch (b_3 from a window started at 7.75 s did not break away at 1, 0.5 and
+0.25 ms and did at 0.125 ms and below, its reserve shrinking 9.5e-4, 6.7e-4, 5.0e-4; a_2's
+return rests 11.752, 11.737, 11.724 mm at 1, 0.5, 0.25 ms, differences that do not shrink, then
+12.226 mm from 0.125 ms on). When the slips happen is recorded, not judged: the outcome is
+where the rods rest. Else the next level, down to ``finest_step_s``; a window that does not
+resolve there takes the finest level and says so. The run goes on at its step from the finest
+level's end state; its history and events in the window are that level's.
+
+What a window inherits (``_inherited``, ``_gap``): it starts from the last window's finest
+level's end state, whose own error (every state, not only the rods') the next coarser level's
+end state stands for at first order: the window's level 0 is run again from that one, and how
+far each rest position moves is what it inherits. Where that exceeds the tolerance and the last
+window ended within ``lookback_s`` before, the two are resolved as one window (``merged``: b_3's
+left strut at 7.86 s broke away or not by what a 0.25 ms window before it left, 1.55 mm apart,
+until the windows from 7.10 s were resolved as one, down to 0.0625 ms). The gap before the
+window went at the run's step: gap and window are run again at level 1 from the gap's start,
+and the move against the window's level 1 is the gap's error. A window's error (per pair) is
+its rest position's (the convergence rule's; the span of its last three levels where it did not
+converge) plus both; a run's, their sum over its windows. Each level records the extremes of
+the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error.
 
 The cost: a window of length W costs W/h·(1 + 2 + ... + 2^k) steps; the run's record
-(``Run.resolution``, ``record``) gives every window, its levels, what each found, the steps
-and CPU time they took.
+(``Run.resolution``) gives every window, its levels, what each found, their steps and CPU.
 """
 
 import dataclasses
@@ -54,46 +70,13 @@ import numpy as np
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
 from drake_car.model.geometry import SIDES
 from drake_car.scene.scene import NoVisualization, at_time_step
+from drake_car.sim.convergence import classify
+from drake_car.sim.window import (
+    Checkpoint, Outcome, extrema, judge, record, spliced_history, summarise)
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state, state_values
 
 _EPS = 1e-9
-# A pair at full creep that did not break away: its reserve (the capacity its force left
-# unused, the smallest while at full creep) is settled when a halving moves it by at most
-# this fraction of itself: a factor of ten between the reserve and what a halving changes it
-# by (b_3's pair at 7.87 s kept 9.5e-4, 6.7e-4, 5.0e-4 of its capacity at 1, 0.5, 0.25 ms and
-# broke away at 0.125 ms).
-SETTLED = 0.1
-
-
-@dataclasses.dataclass
-class Checkpoint:
-    time_s: float
-    values: object  # sim.transfer.StateValues
-    monitor: tuple  # sim.monitor.Monitor.snapshot()
-    event_count: int  # how many of the runner's events are at or before it
-
-
-@dataclasses.dataclass
-class Outcome:
-    """What one level of a window found: per selected pair the break-aways and sticks, the
-    position at the end, the margin to breaking away; the level's events, history, end state
-    and cost."""
-    level: int
-    step_s: float
-    end_s: float
-    counts: dict
-    positions: dict
-    margins: dict
-    events: list
-    times: dict = dataclasses.field(default_factory=dict)
-    history: dict = None
-    end_state: object = None
-    monitor: tuple = None
-    steps: int = 0
-    cpu_s: float = 0.0
-
-
 class Resolver:
     """The windows of one ``sim.simulate.Runner`` (see the module)."""
 
@@ -118,6 +101,12 @@ class Resolver:
         self.windows = []  # the record of each window
         self.spliced = []  # (start, end, history) of each window's resolving level
         self.floor_s = -math.inf  # no window starts before this (the last window's end)
+        # The last window's next coarser level at its end (``_inherited``), None before one.
+        self.alternative = None
+        # The state the gap before the next window starts from: the last window's end, or the
+        # run's first static moment (``_gap``).
+        self.after_last = None
+        self.chain = []  # per window: its start checkpoint, the alternative before it, its end
 
     # -- called by the runner --------------------------------------------------------------
     def before_chunk(self):
@@ -135,6 +124,8 @@ class Resolver:
         self.checkpoints.append(Checkpoint(now, state_values(self.runner.built, root),
                                            self.runner.monitor.snapshot(),
                                            len(self.runner.events)))
+        if self.after_last is None:  # the first gap starts at the run's first static moment
+            self.after_last = self.checkpoints[-1]
 
     def after_chunk(self, rows, end_s):
         """Resolves a window if the chunk's events (``rows``) hold a trigger."""
@@ -143,15 +134,17 @@ class Resolver:
             self._resolve(triggers[0], end_s)
 
     def is_trigger(self, row, later=()):
-        """Whether event ``row`` opens a window (see the module); ``later``: the chunk's
-        events after it (a full creep the pair broke away from within the chunk is judged by
-        that break-away)."""
+        """Whether event ``row`` opens a window (see the module: ``events``); ``later``: the
+        chunk's events after it (a full creep the pair broke away from within the chunk is
+        judged by that break-away)."""
         pair = int(row[1])
         if pair not in self.selected:
             return False
         if row[2] == SATURATION:
             return not any(int(r[1]) == pair and r[2] == BREAK_AWAY for r in later)
-        return row[2] == BREAK_AWAY and abs(row[4]) < self.dv[pair]
+        if row[2] != BREAK_AWAY:
+            return False
+        return self.settings.events == "all" or abs(row[4]) < self.dv[pair]
 
     # -- a window ----------------------------------------------------------------------------
     def window_start(self, event_s):
@@ -183,36 +176,82 @@ class Resolver:
             return
         began_cpu = time.process_time()
         s = self.settings
-        outcomes, level = [], 0
-        reach_s = min(trigger[0] + s.hold_s, end_s)  # every level runs past the event
+        merged = {"windows": 0, "cpu_s": 0.0, "steps": 0}
         while True:
-            outcomes.append(self._run_level(level, checkpoint, end_s, reach_s))
-            self._common_end(outcomes, end_s)
-            errors = self.judge(outcomes)
-            if errors is not None:
-                break
-            if self.runner.scene.time_step_s / 2 ** (level + 1) < s.finest_step_s * (1 - _EPS):
-                break
-            level += 1
+            outcomes, errors = self._levels(checkpoint, trigger, end_s)
+            for o in outcomes:  # before the twins below reuse levels 0 and 1
+                o.extrema = extrema(self.levels[o.level], checkpoint.time_s)
+            coarser = None  # the next coarser level's end state, for the next window
+            if len(outcomes) > 1:
+                level = self.levels[outcomes[-2].level]
+                coarser = Checkpoint(outcomes[-1].end_s, state_values(level.built, level.root),
+                                     level.monitor.snapshot(), 0)
+            inherited = self._inherited(outcomes, end_s)
+            previous = self.chain[-1] if self.chain else None
+            if (previous is not None
+                    and any(e > self.tolerance[i] for i, e in inherited.items())
+                    and checkpoint.time_s - previous["end_s"] <= s.lookback_s + _EPS):
+                # What this window inherits from the last one exceeds the tolerance: the two
+                # are resolved as one window, from the last one's start.
+                self.chain.pop()
+                gone = self.windows.pop()
+                self.spliced.pop()
+                merged["windows"] += 1 + gone["merged"]["windows"]
+                merged["cpu_s"] += gone["cpu_s"]
+                merged["steps"] += (sum(lv["steps"] for lv in gone["levels"])
+                                    + gone["merged"]["steps"] + sum(o.steps for o in outcomes))
+                checkpoint, self.alternative = previous["checkpoint"], previous["alternative"]
+                self.after_last = previous["after_last"]
+                continue
+            break
         resolved = errors is not None
-        if not resolved:  # the change of the rest positions under the last halving
-            errors = {i: abs(outcomes[-1].positions[i] - outcomes[-2].positions[i])
+        if not resolved:  # the span of the last three levels' rest positions
+            errors = {i: classify([o.positions[i] for o in outcomes], self.tolerance[i])["error"]
                       if len(outcomes) > 1 else math.inf for i in self.selected}
         chosen = outcomes[-1]
+        self.chain.append({"checkpoint": checkpoint, "alternative": self.alternative,
+                           "after_last": self.after_last, "end_s": chosen.end_s})
+        self.alternative = coarser
+        gap = self._gap(outcomes, checkpoint, end_s)
+        for i in errors:
+            errors[i] += inherited.get(i, 0.0) + gap.get(i, 0.0)
         self._hand_back(checkpoint, chosen)
+        self.after_last = Checkpoint(chosen.end_s, state_values(self.runner.built,
+                                                                 self.runner.root),
+                                     self.runner.monitor.snapshot(), 0)
         self.windows.append({
             "start_s": checkpoint.time_s, "end_s": chosen.end_s,
             "trigger": {"time_s": float(trigger[0]), "pair": self.names[int(trigger[1])],
                         "kind": "saturation" if trigger[2] == SATURATION else "break_away"},
             "resolved": resolved, "step_s": chosen.step_s,
             "position_errors": {self.names[i]: e for i, e in errors.items()},
+            "inherited_errors": {self.names[i]: e for i, e in inherited.items()},
+            "gap_errors": {self.names[i]: e for i, e in gap.items()},
+            "merged": merged,
             "levels": [{"step_s": o.step_s, "steps": o.steps, "cpu_s": o.cpu_s,
                         "counts": {self.names[i]: list(c) for i, c in o.counts.items()},
                         "times": {self.names[i]: t for i, t in o.times.items()},
                         "positions": {self.names[i]: p for i, p in o.positions.items()},
-                        "margins": {self.names[i]: m for i, m in o.margins.items()}}
+                        "margins": {self.names[i]: m for i, m in o.margins.items()},
+                        "extrema": o.extrema}
                        for o in outcomes],
-            "cpu_s": time.process_time() - began_cpu})
+            "cpu_s": time.process_time() - began_cpu + merged["cpu_s"]})
+
+    def _levels(self, checkpoint, trigger, end_s):
+        """The window from ``checkpoint`` run at level 0, 1, ... until ``judge`` resolves it
+        or the finest step: (the levels' outcomes, their errors or None)."""
+        s = self.settings
+        outcomes, level = [], 0
+        reach_s = min(trigger[0] + s.hold_s, end_s)  # every level runs past the event
+        while True:
+            outcomes.append(self._run_level(level, checkpoint, end_s, reach_s))
+            self._common_end(outcomes, end_s)
+            errors = judge(outcomes, self.selected, self.tolerance)
+            if errors is not None:
+                return outcomes, errors
+            if self.runner.scene.time_step_s / 2 ** (level + 1) < s.finest_step_s * (1 - _EPS):
+                return outcomes, None
+            level += 1
 
     def _level_runner(self, level):
         if level not in self.levels:
@@ -226,6 +265,13 @@ class Resolver:
 
     def _run_level(self, level, checkpoint, end_s, reach_s):
         runner = self._level_runner(level)
+        self._start_level(runner, checkpoint)
+        outcome = Outcome(level, runner.scene.time_step_s, checkpoint.time_s, {}, {}, {}, [])
+        self._advance(runner, outcome, end_s, until_quiet=True, to_s=reach_s)
+        return outcome
+
+    def _start_level(self, runner, checkpoint):
+        """``runner`` set to ``checkpoint``'s state, its logs and events emptied."""
         set_state(runner.built, runner.simulator, checkpoint.values)
         runner.root = runner.simulator.get_mutable_context()
         runner.built.velocity_logger.FindMutableLog(runner.root).Clear()
@@ -236,9 +282,6 @@ class Resolver:
         context = friction.GetMyMutableContextFromRoot(runner.root)
         friction.reset_peaks(context)
         runner.events, runner.event_count = [], friction.event_count(context)
-        outcome = Outcome(level, runner.scene.time_step_s, checkpoint.time_s, {}, {}, {}, [])
-        self._advance(runner, outcome, end_s, until_quiet=True, to_s=reach_s)
-        return outcome
 
     def _advance(self, runner, outcome, end_s, until_quiet, to_s=None):
         """Runs ``runner`` chunk by chunk until it is quiet (and at least at ``to_s``), or
@@ -254,7 +297,7 @@ class Resolver:
         outcome.end_s = runner.root.get_time()
         outcome.steps += runner.monitor.stats.steps - steps0
         outcome.cpu_s += time.process_time() - began
-        self._summarise(runner, outcome)
+        summarise(runner, outcome, self.selected)
 
     def _quiet(self, runner):
         """Every selected pair static, short of its full creep, and without an event for
@@ -279,51 +322,41 @@ class Resolver:
             for o in behind:
                 self._advance(self.levels[o.level], o, end_s, until_quiet=True, to_s=last)
 
-    def _summarise(self, runner, outcome):
-        friction = runner.built.friction
-        context = friction.GetMyContextFromRoot(runner.root)
-        q = runner.built.plant.GetPositions(runner.built.plant.GetMyContextFromRoot(runner.root))
-        peaks, phase = friction.peaks(context)[1], friction.phases(context)
-        positions = q[friction.position_indices()]
-        outcome.events = list(runner.events)
-        for i in self.selected:
-            rows = [row for row, _, _ in runner.events if int(row[1]) == i]
-            breaks = sum(row[2] == BREAK_AWAY for row in rows)
-            sticks = sum(row[2] == STICK for row in rows)
-            outcome.counts[i] = (int(breaks), int(sticks))
-            outcome.times[i] = [float(row[0]) for row in rows if row[2] != SATURATION]
-            outcome.positions[i] = float(positions[i])
-            # How close the phase the pair is static in at the end came to breaking away:
-            # its smallest reserve at full creep (None: it did not reach full creep).
-            outcome.margins[i] = (float(peaks[i]) if phase[i] == 0.0 and peaks[i] >= 0
-                                  else None)
+    def _inherited(self, outcomes, end_s):
+        """{pair: the error this window inherits from the last one}: the window's start state
+        is the last window's finest level's end state, whose own error the next coarser level's
+        end state stands for (first order: their difference); the window's level 0 is run
+        again from that one, from the last window's end, and each pair's rest position moves
+        by what the inherited error does to it. Empty for the run's first window (its state
+        comes from the run's own step, every strut static since the start)."""
+        if self.alternative is None:
+            return {}
+        start = self.alternative
+        twin = Outcome(0, self.runner.scene.time_step_s, start.time_s, {}, {}, {}, [])
+        runner = self._level_runner(0)
+        self._start_level(runner, start)
+        self._advance(runner, twin, end_s, until_quiet=False, to_s=outcomes[0].end_s)
+        outcomes[0].cpu_s += twin.cpu_s
+        outcomes[0].steps += twin.steps
+        return {i: abs(twin.positions[i] - outcomes[0].positions[i]) for i in self.selected}
 
-    def judge(self, outcomes):
-        """Whether the last level resolves the window (see the module): {pair: the error of
-        its rest position (its change under the last halving)}, or None."""
-        saturated = any(row[2] == SATURATION and int(row[1]) in self.selected
-                        for o in outcomes for row, _, _ in o.events)
-        agreeing = 3 if saturated else 2
-        if len(outcomes) < agreeing:
-            return None
-        last = outcomes[-agreeing:]
-        errors = {}
-        for i in self.selected:
-            if len({o.counts[i] for o in last}) != 1:
-                return None
-            for x, y in zip(last, last[1:]):  # each slip and stick within two of x's steps
-                if any(abs(p - q) > 2 * x.step_s + _EPS for p, q in zip(x.times[i], y.times[i])):
-                    return None
-            if len({o.margins[i] is None for o in last}) != 1:
-                return None
-            a, b = last[-2].margins[i], last[-1].margins[i]
-            if b is not None and not (b > 0 and abs(a - b) <= SETTLED * b):
-                return None
-            changes = [abs(x.positions[i] - y.positions[i]) for x, y in zip(last, last[1:])]
-            if max(changes) > self.tolerance[i]:
-                return None
-            errors[i] = changes[-1]
-        return errors
+    def _gap(self, outcomes, checkpoint, end_s):
+        """{pair: the error of the gap before this window}: the run went from the last window's
+        end (or its first static moment) to this window's start at its own step; the gap and
+        the window are run again at level 1 (half the step) from there, and each pair's rest
+        position's move against the window's level 1 is the gap's step error. Empty where the
+        window starts where the last one ended, or its level 1 is the one it hands back."""
+        start = self.after_last
+        if (start is None or checkpoint.time_s <= start.time_s + _EPS
+                or len(outcomes) < 3):
+            return {}
+        twin = Outcome(1, outcomes[1].step_s, start.time_s, {}, {}, {}, [])
+        runner = self._level_runner(1)
+        self._start_level(runner, start)
+        self._advance(runner, twin, end_s, until_quiet=False, to_s=outcomes[1].end_s)
+        outcomes[1].cpu_s += twin.cpu_s
+        outcomes[1].steps += twin.steps
+        return {i: abs(twin.positions[i] - outcomes[1].positions[i]) for i in self.selected}
 
     def _hand_back(self, checkpoint, chosen):
         """The resolving level's end state into the runner, its history and events kept."""
@@ -348,38 +381,19 @@ class Resolver:
     def spliced_history(self, history):
         """``history`` (the runner's loggers) with each window's samples replaced by its
         resolving level's."""
-        if not self.spliced:
-            return history
-        t = history["t"]
-        keep = np.ones(t.size, dtype=bool)
-        for start, end, _ in self.spliced:
-            keep &= ~((t > start + _EPS) & (t <= end + _EPS))
-        parts = [{k: v[keep] for k, v in history.items()}] + [h for _, _, h in self.spliced]
-        times = np.concatenate([p["t"] for p in parts])
-        order = np.argsort(times, kind="stable")
-        return {k: np.concatenate([p[k] for p in parts])[order] for k in history}
+        return spliced_history(history, self.spliced)
 
     def record(self):
         """What the resolution did and cost (JSON-ready)."""
-        standing = self.windows
-        errors = {}
-        for w in standing:
-            for pair, error in w["position_errors"].items():
-                errors[pair] = max(errors.get(pair, 0.0), error)
-        return {"settings": dataclasses.asdict(self.settings), "windows": self.windows,
-                "window_count": len(standing),
-                "resolved": sum(w["resolved"] for w in standing),
-                "finest_step_s": min((w["step_s"] for w in standing), default=None),
-                "position_errors": errors,
-                "window_steps": sum(lv["steps"] for w in self.windows for lv in w["levels"]),
-                "cpu_s": sum(w["cpu_s"] for w in self.windows)}
+        return record(self.settings, self.windows)
 
     def export(self):
         """What a branched run continues with (``sim.branch``)."""
         return (list(self.checkpoints), [dict(w) for w in self.windows], list(self.spliced),
-                self.floor_s)
+                self.floor_s, self.alternative, self.after_last, list(self.chain))
 
     def adopt(self, exported):
-        checkpoints, windows, spliced, floor = exported
-        self.checkpoints, self.windows, self.spliced, self.floor_s = (
-            list(checkpoints), [dict(w) for w in windows], list(spliced), floor)
+        checkpoints, windows, spliced, floor, alternative, after_last, chain = exported
+        self.checkpoints, self.windows, self.spliced, self.floor_s, self.alternative = (
+            list(checkpoints), [dict(w) for w in windows], list(spliced), floor, alternative)
+        self.after_last, self.chain = after_last, list(chain)

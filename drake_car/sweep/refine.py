@@ -6,18 +6,11 @@ Generic: the runs are scenes, the outcomes any numbers a caller computes from th
 one step (``outcomes_of``), keyed (subject, outcome): a subject is a run's name, or names joined
 by "|" for an outcome of several runs (it is computed only where all of them ran at that step).
 
-Convergence (``classify``), on the values at h, h/2, h/4, ... (the last three): with
-d1 = |x(h/2^(k-2)) - x(h/2^(k-1))| and d2 = |x(h/2^(k-1)) - x(h/2^k)|, an outcome's error is
-max(d2, 2^-p · d1) (for p = 1, d2 is Richardson's estimate of the finer value's error; the
-floor keeps a branch jump followed by two agreeing steps, 6.7 / 5.0 / 5.0, from passing as
-exact), and it has converged when that error is within its tolerance and the differences
-shrink as a scheme of ``order`` p makes them shrink (d2 ≤ 1.5 · 2^-p · d1: the slack for a
-ratio measured on two differences), or both differences are below a tenth of the tolerance
-(three steps agree where there is nothing left to shrink, e.g. a count: three equal values);
-the observed order is log2(d1/d2).
-Otherwise it has not converged: its error is the span of the last three values and the values
-at every step are kept, never a number with a small error. Two steps alone cannot tell
-"converged" from "both on the same wrong branch" of a stick-slip outcome, hence three.
+Convergence (``classify``, ``sim.convergence``: the rule the local route's windows use too):
+on the values at the last three steps, the error of the finest is max(d2, 2^-p · d1), and it
+has converged when that is within the tolerance and the differences shrink at first order (or
+are below a tenth of the tolerance, or within the solver's error); otherwise its error is the
+span of the last three, and the values at every step are kept.
 
 The solver axis (``solver_twin``): SAP's Newton iterations stop at a relative tolerance εr
 (1e-6) of the system's momentum that no step removes (``systems.sap_ballast``). Once the steps
@@ -42,8 +35,7 @@ import dataclasses
 import math
 import time
 
-SLACK = 1.5  # of the expected ratio 2^-p between successive differences
-NOISE = 0.1  # of the tolerance: differences this small need not shrink
+from drake_car.sim.convergence import classify
 
 
 def halved(scene, halvings=1):
@@ -58,32 +50,6 @@ def loosened(scene, factor=2.0):
     simulator = dataclasses.replace(
         scene.simulator, sap_tolerance_factor=scene.simulator.sap_tolerance_factor * factor)
     return dataclasses.replace(scene, simulator=simulator)
-
-
-def classify(values, tolerance, order=1, floor=0.0):
-    """Convergence of an outcome from its ``values`` at successive halvings of the step (see
-    the module); ``floor``: its solver error, below which differences need not shrink.
-    Returns {"converged", "value" (the finest), "error", "observed_order" (None when not
-    measurable)}."""
-    values = [float(v) for v in values]
-    last = values[-1]
-    if len(values) < 3:
-        span = max(values) - min(values)
-        return {"converged": False, "value": last, "error": span, "observed_order": None}
-    x0, x1, x2 = values[-3:]
-    d1, d2 = abs(x0 - x1), abs(x1 - x2)
-    observed = math.log2(d1 / d2) if d1 > 0 and d2 > 0 else None
-    shrinks = d2 <= SLACK * 2.0 ** -order * d1
-    quiet = max(d1, d2) <= max(NOISE * tolerance, floor)
-    # The finest value's error: d2, but no less than d1 shrunk once at the scheme's order. A
-    # last difference far below that (6.7, 5.0, 5.0: a branch jump, then two steps on the new
-    # branch) is not the scheme's error shrinking: two values on a branch are not three.
-    error = max(d2, 2.0 ** -order * d1)
-    floored = max(d1, d2) <= floor  # the step has taken it as far as the solver lets it
-    if (error <= tolerance and (shrinks or quiet)) or floored:
-        return {"converged": True, "value": x2, "error": error, "observed_order": observed}
-    return {"converged": False, "value": x2, "error": max(x0, x1, x2) - min(x0, x1, x2),
-            "observed_order": observed}
 
 
 @dataclasses.dataclass

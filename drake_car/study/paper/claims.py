@@ -111,7 +111,11 @@ def place_values(history, timeline: Timeline, column):
     return float(np.mean(values[a])), float(np.mean(values[b]))
 
 
-def phase_one_return(history, timeline: Timeline, side, blend_s=0.3):
+# How long before the speed-up ends the return is measured from (the jerk ramp's end).
+RETURN_BLEND_S = 0.3
+
+
+def phase_one_return(history, timeline: Timeline, side, blend_s=RETURN_BLEND_S):
     """How far the rod moves once the car's acceleration falls back to zero (the last
     ``blend_s`` of the speed-up) until the lane change begins (m): the paper's "return
     movements" in the second part of phase I."""

@@ -1,42 +1,36 @@
-"""Accuracy on demand, local route: the study's runs with dry friction resolve their near-
-threshold stick-slip events locally (``sim.resolve``: the scene's ``simulator.resolve_events``,
-saved with each run), the others (no dry friction: no events) are refined by halving their
-whole step (``sweep.refine``, the global route, which remains reachable for every run with
-``--refine global``).
+"""Accuracy on demand, local route: the study's runs with dry friction resolve every slip of
+their struts locally (``sim.resolve``: the scene's ``simulator.resolve_events``, saved with each
+run), the others (no dry friction: no slips) are refined by halving their whole step
+(``sweep.refine``, the global route, which remains reachable for every run with ``--refine
+global``).
 
 A locally resolved run's outcomes are its own values at its step, with the windows' finer
-steps where its events were. Their error is what the windows say (``position_errors``: per
-strut, the largest change of a window's rest position under its last halving, first-order's
-estimate of the finer level's error), carried to each outcome by how it is made of the rods'
-positions (``ERROR_OF``): a rod's position at a place carries its strut's error; a shift (place b
-less place a) twice that; the left-right change twice the sum of both struts'; a mirror pair
-the sum of both runs'; the lasting split (a fraction of the corner load) the left-right
-change's error times the run's own ratio of split to left-right change (the jammed struts'
-preload is what both measure). Outcomes that are not made of rest positions (the rods'
-rotation, μ1's counts, the forces at rest) get no error here ("-": not judged). Between
-windows every strut is static: its rod moves by its creep only (|Δ| ≤ Δmax), at the run's
-step; the step's error on the rest of the car there is not estimated by this route.
+steps where its struts slipped. Each window says the error of the rods' rest positions at its
+end (per strut: its convergence error, plus what it inherits from the last window and from the
+gap before it: ``sim.resolve``); a rest position carries the errors of every window before it
+(their sum, ``errors_between``). Carried to each outcome by when it is taken and how it is made
+of the rods' positions (``local_rows``): a rod's position at place a takes the windows before
+the lane change, at place b all of them; a shift (b less a) and the left-right change (its
+two shifts) take both; the return (a rod's travel from the end of the speed-up to the lane
+change) twice the windows in that time, or, where none is, the creep band 2·Δmax it can move
+in while static; a mirror pair both runs'; the lasting split the left-right change's error
+times the run's own ratio of split to left-right change (the jammed struts' preload is what
+both measure); a peak (the largest Δd, rotation or μ1) the convergence of its window's
+levels' extremes (``peak_error``). The forces at rest get no error here ("-": not judged).
 """
 
 import dataclasses
 import math
 
+import numpy as np
+
 from drake_car.model.geometry import SIDES
 from drake_car.scene.scene import ResolveEvents
-from drake_car.study.paper.claims import study_columns
+from drake_car.sim.convergence import classify
+from drake_car.study.paper.claims import RETURN_BLEND_S, study_columns
 from drake_car.study.paper.outcomes import (
     DRIVES, TOLERANCES, outcomes_of_runs, study_outcomes, tolerances)
 from drake_car.sweep.refine import refine
-
-# outcome -> (sides' errors used, factor): see the module.
-ERROR_OF = {
-    **{f"dd_{s}_{p}_m": ((s,), 1.0) for s in SIDES for p in "ab"},
-    **{f"shift_{s}_m": ((s,), 2.0) for s in SIDES},
-    "lr_change_m": (SIDES, 2.0),
-    "return_m": (SIDES, 2.0),
-    "peak_dd_m": (SIDES, 1.0),
-}
-
 
 @dataclasses.dataclass
 class Accurate:
@@ -67,10 +61,10 @@ def accurate_runs(scenes, roles, timeline, simulate, *, route, extra, halve, fin
                      first_extra=extra | {n: resolved[n] for n in local}, halve=halve,
                      solver_twin=solver_twin)
     done = refined.runs.pop("extra")
-    runs = {n: done[n] if n in local else refined.runs[0][n] for n in scenes}
+    runs = {n: done[n] if n in local else finest_run(refined.runs, n) for n in scenes}
     table = refined.outcomes | local_rows(study_outcomes(
         {n: study_columns(runs[n].history) for n in local}, roles, timeline),
-        {n: runs[n] for n in local})
+        {n: runs[n] for n in local}, timeline)
     made = {n: ("local", [runs[n]]) if n in local else
             ("global", [level[n] for level in refined.runs.values() if n in level])
             for n in scenes}
@@ -81,6 +75,18 @@ def accurate_runs(scenes, roles, timeline, simulate, *, route, extra, halve, fin
                                        for r in summaries.values())}
     return Accurate(runs, done, table, {n: sum(r.wall_s for r in made[n][1]) for n in scenes},
                     {n: sum(r.cpu_s for r in made[n][1]) for n in scenes}, refinement)
+
+
+def finest_run(levels: dict, name):
+    """Run ``name`` at the finest step it was refined to (``sweep.refine``'s runs: level ->
+    name -> Run), the study's CSVs and figures drawn from it; the replay page, made at the
+    scene's own step only, carried over from there."""
+    steps = [k for k in levels if isinstance(k, int) and name in levels[k]]
+    finest = levels[max(steps)][name]
+    first = levels[min(steps)][name]
+    if finest.replay_html is None and first.replay_html is not None:
+        finest = dataclasses.replace(finest, replay_html=first.replay_html)
+    return finest
 
 
 def resolved_scenes(scenes: dict):
@@ -95,42 +101,112 @@ def _dry(scene):
     return scene.friction is not None and scene.friction.law.mu_s > 0
 
 
-def side_errors(run):
-    """side -> the error of the strut's rest positions (m) from ``run``'s windows; None when
-    the run resolved no window."""
+def errors_between(run, start_s=-math.inf, end_s=math.inf):
+    """side -> the error of the strut's rest positions (m) from ``run``'s windows that reach
+    into (``start_s``, ``end_s``): their sum; None when the run resolved no window."""
     resolution = run.resolution or {}
-    errors = resolution.get("position_errors") or {}
     if not resolution.get("window_count"):
         return None
-    return {side: float(errors.get(f"{side}_translation", 0.0)) for side in SIDES}
+    out = {side: 0.0 for side in SIDES}
+    for w in resolution["windows"]:
+        if w["end_s"] > start_s and w["start_s"] < end_s:
+            for side in SIDES:
+                out[side] += float(w["position_errors"].get(f"{side}_translation", 0.0))
+    return out
 
 
-def local_rows(values: dict, runs: dict):
+# A peak over the run (and both struts): the channel it is taken of (per side), from the run's
+# first value (Δd) or from zero.
+PEAKS = {"rotation_rad": ("rot_{}_rad", False), "peak_dd_m": ("d_{}_m", True),
+         **{f"mu1_peak_{s}": (f"friction_{s}_translation_mu1", False) for s in SIDES}}
+
+
+def peak_error(run, outcome, tolerance):
+    """(error, converged) of peak ``outcome`` of a locally resolved ``run``: where the run
+    reaches it inside a window, the convergence of that window's levels' peaks
+    (``sim.convergence.classify``, each level's extremes of the channel in the window); a rod's
+    position outside every window is a rest position (every strut static there): its windows'
+    error. None (not estimated) for a rotation or μ1 peak reached between windows."""
+    channel, from_start = PEAKS[outcome]
+    history = run.history
+    sides = [outcome.rsplit("_", 1)[1]] if outcome.startswith("mu1_") else SIDES
+    scale = run.scene.friction.law.mu_s if outcome.startswith("mu1_") else 1.0
+    best = None
+    for side in sides:
+        x = np.asarray(history[channel.format(side)], dtype=float)
+        ref = x[0] if from_start else 0.0
+        k = int(np.argmax(np.abs(x - ref)))
+        if best is None or abs(x[k] - ref) > best[0]:
+            best = (abs(x[k] - ref), side, float(history["t"][k]), ref)
+    _, side, t, ref = best
+    windows = [w for w in (run.resolution or {}).get("windows") or []
+               if w["start_s"] < t <= w["end_s"] + 1e-9]
+    before = (errors_between(run, end_s=t) or {}).get(side)
+    if not windows:
+        if outcome == "peak_dd_m" and before is not None:  # a rest position
+            return before, before <= tolerance
+        return None, None
+    w = windows[0]
+    series = [max(abs(lo - ref), abs(hi - ref)) / scale
+              for lo, hi in (lv["extrema"][channel.format(side)] for lv in w["levels"])]
+    found = classify(series, tolerance)
+    error = found["error"]
+    if outcome == "peak_dd_m":  # where the rod started the window, and what it inherits
+        pair = f"{side}_translation"
+        error += (before - w["position_errors"][pair] + w["inherited_errors"].get(pair, 0.0)
+                  + w.get("gap_errors", {}).get(pair, 0.0))
+    return error, found["converged"] and w["resolved"]
+
+
+def local_rows(values: dict, runs: dict, timeline):
     """Outcome rows (as ``sweep.refine`` gives them) of ``values`` ({(subject, outcome):
     (value, unit)}, ``outcomes.study_outcomes`` of locally resolved ``runs``): each with its
     error from the windows (see the module), converged (error within the tolerance and every
     window resolved; None where not judged), and how it was resolved."""
+    t2, t3 = timeline.boundaries()[:2]
     rows = {}
     for (subject, outcome), (value, unit) in values.items():
         names = subject.split("|")
-        errors = [side_errors(runs[n]) for n in names]
+        before_a = [errors_between(runs[n], end_s=t3) for n in names]
+        at_b = [errors_between(runs[n]) for n in names]
         error = None
-        if outcome in ERROR_OF and None not in errors:
-            sides, factor = ERROR_OF[outcome]
-            error = sum(factor * sum(e[s] for s in sides) for e in errors)
-        elif outcome == "mirror_residual_m" and None not in errors:
-            error = sum(max(e.values()) for e in errors)
-        elif outcome == "split_change" and None not in errors:
-            lr = values.get((subject, "lr_change_m"), (0.0, ""))[0]
-            lr_error = 2.0 * sum(errors[0].values())
-            error = abs(value / lr) * lr_error if lr else None
+        if None not in at_b:
+            side = outcome.split("_")[1] if outcome.startswith(("dd_", "shift_")) else None
+            if outcome.startswith("dd_"):
+                error = (before_a if outcome.endswith("_a_m") else at_b)[0][side]
+            elif outcome.startswith("shift_"):
+                error = before_a[0][side] + at_b[0][side]
+            elif outcome in ("lr_change_m", "split_change"):
+                error = sum(before_a[0].values()) + sum(at_b[0].values())
+                if outcome == "split_change":
+                    lr = values.get((subject, "lr_change_m"), (0.0, ""))[0]
+                    error = abs(value / lr) * error if lr else None
+            elif outcome == "return_m":
+                during = errors_between(runs[names[0]], t2 - RETURN_BLEND_S, t3)
+                static = 2.0 * runs[names[0]].scene.friction.law.dmax_translation_m
+                error = 2.0 * max(during.values()) if any(during.values()) else static
+            elif outcome == "mirror_residual_m":
+                error = sum(max(e.values()) for e in at_b)
         tolerance = TOLERANCES[outcome][0]
+        peak_converged = None
+        if outcome in PEAKS:
+            error, peak_converged = peak_error(runs[names[0]], outcome, tolerance)
+        elif outcome.startswith("mu1_reaches_") and value == 0:
+            # A count of 0 is exact at every level while its peak stays clear of 1: decided
+            # where the peak's margin exceeds the peak's error (``measures.claim_measures``).
+            peak = f"mu1_peak_{outcome.rsplit('_', 1)[1]}"
+            if (subject, peak) in values:
+                peak_err, _ = peak_error(runs[names[0]], peak, TOLERANCES[peak][0])
+                error = None if peak_err is None else 0.0
+                peak_converged = None if peak_err is None else True
         all_resolved = all(w["resolved"] for n in names
                            for w in (runs[n].resolution or {}).get("windows") or [])
         rows[(subject, outcome)] = {
             "unit": unit, "tolerance": tolerance, "steps_s": [_step(runs[names[0]])],
             "values": [value], "value": value, "error": error,
-            "converged": None if error is None else (error <= tolerance and all_resolved),
+            "converged": None if error is None else (
+                peak_converged if peak_converged is not None
+                else error <= tolerance and all_resolved),
             "observed_order": None, "step_s": _step(runs[names[0]]), "route": "local",
             **resolution_fields(runs[n] for n in names)}
     return rows

@@ -37,9 +37,10 @@ def claim_measures(table: dict, roles: dict):
     limited_by the larger of the two. A maximum (minimum)
     over runs is taken over each run's own value; its error is the largest of theirs
     (|max x - max y| <= max |x - y|), converged only if every run's is. Verdict: all
-    ``decides`` ones hold; decided only if each is converged and its margin exceeds its error
-    (a count: converged, and the peak that makes it clear of the threshold by more than the
-    peak's error)."""
+    ``decides`` ones hold; decided only if each one's margin exceeds its budget (converged: its
+    error; not converged: the spread of its last three steps or windows' levels; a count:
+    converged, and the peak that makes it clear of the threshold by more than the peak's
+    error)."""
     names = {(c, f.number): n for n, (c, f) in roles.items()}
     sets = roles_of(roles)
     of = {k: [names[(c, k)] for c in CASES] for k in sets.numbers}
@@ -116,8 +117,14 @@ def _judged(m):
     m["holds"] = holds(m)
     m["margin"] = abs(m["value"] - m["threshold"])
     if m["error"] is not None:
-        m["decided"] = bool(m["converged"]) and (m["unit"] == "count"
-                                                 or m["margin"] > m["error"])
+        # A count is exact at each step: decided when converged. Any other number is decided
+        # when its margin exceeds its whole budget: the error of a converged value, or, where
+        # the values did not converge at first order, the spread of its last three steps (or
+        # of its windows' last three levels) plus the solver's (issue 32: b_3's claim-2 shift
+        # 7.336 / 7.333 / 7.330 mm against 0.1 mm, differences of 3 µm that do not shrink).
+        spread = m["route"] == "local" or len(m["values"] or []) >= 3
+        m["decided"] = (bool(m["converged"]) if m["unit"] == "count"
+                        else m["margin"] > m["error"] and (bool(m["converged"]) or spread))
     return m
 
 

@@ -63,7 +63,10 @@ def flip(row):
     if row["margin"] is None or row["error"] is None:
         return "-"
     if not row["converged"]:
-        return "**not converged**"
+        if row["unit"] == "count" or not row.get("decided"):
+            return "**not converged**"
+        return (f"{row['margin'] / row['error']:.0f} × its spread (not converged at first "
+                "order: the spread of its last three steps)")
     if row["unit"] == "count":
         return "exact (a converged count)"
     if row["error"] == 0:

@@ -1,0 +1,139 @@
+"""A window's levels (``sim.resolve``): the state a window starts from (``Checkpoint``), what a
+level found (``Outcome``: each selected pair's slips and sticks, where it rests, its reserve at
+full creep, the extremes of the watched channels), and whether the last three levels resolve
+the window (``judge``)."""
+
+import dataclasses
+
+import numpy as np
+
+from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
+from drake_car.sim.convergence import classify
+from drake_car.sim.simulation import logged_history
+
+_EPS = 1e-9
+# A pair at full creep that did not break away: its reserve (the capacity its force left
+# unused, the smallest while at full creep) is settled when a halving moves it by at most
+# this fraction of itself: a factor of ten between the reserve and what a halving changes it
+# by (b_3's pair at 7.87 s kept 9.5e-4, 6.7e-4, 5.0e-4 of its capacity at 1, 0.5, 0.25 ms and
+# broke away at 0.125 ms).
+SETTLED = 0.1
+# The logged channels whose extremes in a window each level records (``extrema``): the rods'
+# positions and rotations in their cylinders, and each pair's μ1.
+WATCHED = ("d_left_m", "d_right_m", "rot_left_rad", "rot_right_rad")
+
+
+@dataclasses.dataclass
+class Checkpoint:
+    time_s: float
+    values: object  # sim.transfer.StateValues
+    monitor: tuple  # sim.monitor.Monitor.snapshot()
+    event_count: int  # how many of the runner's events are at or before it
+
+
+@dataclasses.dataclass
+class Outcome:
+    """What one level of a window found: per selected pair the break-aways and sticks, the
+    position at the end, the margin to breaking away; the level's events, history, end state
+    and cost."""
+    level: int
+    step_s: float
+    end_s: float
+    counts: dict
+    positions: dict
+    margins: dict
+    events: list
+    times: dict = dataclasses.field(default_factory=dict)
+    extrema: dict = dataclasses.field(default_factory=dict)
+    history: dict = None
+    end_state: object = None
+    monitor: tuple = None
+    steps: int = 0
+    cpu_s: float = 0.0
+
+
+def summarise(runner, outcome, selected):
+    """``outcome`` filled from ``runner`` at a level's end: per selected pair its break-aways
+    and sticks, their times, its position and its reserve at full creep."""
+    friction = runner.built.friction
+    context = friction.GetMyContextFromRoot(runner.root)
+    q = runner.built.plant.GetPositions(runner.built.plant.GetMyContextFromRoot(runner.root))
+    peaks, phase = friction.peaks(context)[1], friction.phases(context)
+    positions = q[friction.position_indices()]
+    outcome.events = list(runner.events)
+    for i in selected:
+        rows = [row for row, _, _ in runner.events if int(row[1]) == i]
+        breaks = sum(row[2] == BREAK_AWAY for row in rows)
+        sticks = sum(row[2] == STICK for row in rows)
+        outcome.counts[i] = (int(breaks), int(sticks))
+        outcome.times[i] = [float(row[0]) for row in rows if row[2] != SATURATION]
+        outcome.positions[i] = float(positions[i])
+        # How close the phase the pair is static in at the end came to breaking away:
+        # its smallest reserve at full creep (None: it did not reach full creep).
+        outcome.margins[i] = (float(peaks[i]) if phase[i] == 0.0 and peaks[i] >= 0
+                              else None)
+
+
+def judge(outcomes, selected, tolerance):
+    """Whether the last three levels of a window resolve it (``sim.resolve``): {pair: the
+    error of its rest position}, or None; ``selected``: the pairs judged, ``tolerance``: pair ->
+    the tolerance of its rest position."""
+    if len(outcomes) < 3:
+        return None
+    last = outcomes[-3:]
+    errors = {}
+    for i in selected:
+        if len({o.counts[i] for o in last}) != 1:
+            return None
+        if len({o.margins[i] is None for o in last}) != 1:
+            return None
+        a, b = last[-2].margins[i], last[-1].margins[i]
+        if b is not None and not (b > 0 and abs(a - b) <= SETTLED * b):
+            return None
+        found = classify([o.positions[i] for o in last], tolerance[i])
+        if not found["converged"]:
+            return None
+        errors[i] = found["error"]
+    return errors
+
+def extrema(runner, start_s):
+    """{channel: [min, max]} of the ``WATCHED`` channels and each pair's μ1 that ``runner``
+    logged after ``start_s`` (its window)."""
+    history = logged_history(runner.built, runner.root)
+    keep = history["t"] > start_s + _EPS
+    names = [c for c in history if c in WATCHED
+             or (c.startswith("friction_") and c.endswith("_mu1"))]
+    return {c: [float(np.min(history[c][keep])), float(np.max(history[c][keep]))]
+            for c in names if np.any(keep)}
+
+
+def spliced_history(history, spliced):
+    """``history`` (the runner's loggers) with each window's samples replaced by its
+    resolving level's."""
+    if not spliced:
+        return history
+    t = history["t"]
+    keep = np.ones(t.size, dtype=bool)
+    for start, end, _ in spliced:
+        keep &= ~((t > start + _EPS) & (t <= end + _EPS))
+    parts = [{k: v[keep] for k, v in history.items()}] + [h for _, _, h in spliced]
+    times = np.concatenate([p["t"] for p in parts])
+    order = np.argsort(times, kind="stable")
+    return {k: np.concatenate([p[k] for p in parts])[order] for k in history}
+
+
+def record(settings, windows):
+    """What a run's resolution did and cost (JSON-ready): its ``windows``' records."""
+    standing = windows
+    errors = {}  # a rest position carries every window's error before it: their sum
+    for w in standing:
+        for pair, error in w["position_errors"].items():
+            errors[pair] = errors.get(pair, 0.0) + error
+    return {"settings": dataclasses.asdict(settings), "windows": windows,
+            "window_count": len(standing),
+            "resolved": sum(w["resolved"] for w in standing),
+            "finest_step_s": min((w["step_s"] for w in standing), default=None),
+            "position_errors": errors,
+            "window_steps": sum(sum(lv["steps"] for lv in w["levels"]) + w["merged"]["steps"]
+                                for w in windows),
+            "cpu_s": sum(w["cpu_s"] for w in windows)}
