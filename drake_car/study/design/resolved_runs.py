@@ -42,7 +42,7 @@ def resolve_events(study):
     decides in 4 of the 17 jam cases (their splits 0.05-0.19 % of the corner load from the
     global route's, beyond their errors); a window at every break-away of a strut agrees in
     all 17, at 1.7 times the windows' CPU (the study 1.67× its unrefined run, not 1.43×)."""
-    return ResolveEvents(finest_step_s=study.accuracy.finest_step_s)
+    return ResolveEvents(finest_step_s=study.accuracy.finest_step_s, events="all")
 
 
 def resolving(study, scene):
