@@ -58,7 +58,8 @@ def _row(name, **values):
     row = {"name": name, "role": name.split("_")[0].rstrip("0123456789"), "hash": name, "status": "ok",
            "step_s": 1e-3, "split_change_rel": -0.05, "pull_deg": 0.2, "windows": 0,
            "windows_resolved": 0, "window_finest_step_s": math.nan, "resolution_cpu_s": math.nan,
-           "run_cpu_s": 4.0, "rest_error_left_m": math.nan, "rest_error_right_m": math.nan,
+           "run_cpu_s": 4.0, **{f"rest_error_{s}_{p}_m": math.nan for s in ("left", "right")
+                                for p in "ab"},
            "dd_left_a_m": -0.010, "dd_right_a_m": -0.010, "dd_left_b_m": -0.012,
            "dd_right_b_m": -0.008}
     return row | values
@@ -68,16 +69,18 @@ def test_a_resolved_row_carries_its_windows_error_and_says_what_they_do_not_cove
     study = STUDY
     noise = {"split_change_rel": 4e-4, "pull_deg": 0.004}
     windows = _row("map0_001", windows=2, windows_resolved=2, window_finest_step_s=1.25e-4,
-                   resolution_cpu_s=6.0, rest_error_left_m=3e-6, rest_error_right_m=1e-6)
+                   resolution_cpu_s=6.0, rest_error_left_a_m=1e-6, rest_error_left_b_m=3e-6,
+                   rest_error_right_a_m=1e-6, rest_error_right_b_m=3e-6)
     open_window = _row("map0_003", windows=2, windows_resolved=1, window_finest_step_s=1.25e-4,
-                       resolution_cpu_s=9.0, rest_error_left_m=1e-6, rest_error_right_m=1e-6)
+                       resolution_cpu_s=9.0, **{f"rest_error_{s}_{p}_m": 1e-6
+                                                for s in ("left", "right") for p in "ab"})
     none = _row("mitigation0_0000")
     other = _row("mc_0000")
     rows = [windows, open_window, none, other]
     resolved_runs.apply(rows, study, noise, {"map0_001", "map0_003", "mitigation0_0000"})
     # The left-right change of the rest positions from a to b: (-0.012 + 0.008) - 0 = -4 mm;
-    # the split per change 0.05 / 4 mm; the change errs by twice both struts' errors (8 µm).
-    assert windows["split_change_rel_error"] == pytest.approx(0.05 / 0.004 * 2 * 4e-6)
+    # the split per change 0.05 / 4 mm; the change errs by both struts' errors at a and b (8 µm).
+    assert windows["split_change_rel_error"] == pytest.approx(0.05 / 0.004 * 8e-6)
     assert windows["split_change_rel_error_from"] == "windows"
     assert windows["split_change_rel_converged"] == "yes"  # 1e-4 <= the 1e-3 tolerance
     assert windows["split_change_rel_step_s"] == 1.25e-4
@@ -116,3 +119,35 @@ def test_the_route_s_summary_counts_equal_runs_once_and_says_what_the_windows_co
     text = "\n".join(resolved_runs.report_lines(s))
     assert "took 3 s of CPU, 19 % of the 16 s" in text
     assert "opened no window" in text and "mitigation0_0000" in text
+
+
+def test_a_rest_position_carries_the_windows_before_its_place_and_none_after_the_release():
+    @dataclasses.dataclass
+    class Run:  # what resolution_fields reads of a Run
+        scene: object
+        resolution: dict
+        cpu_s: float = 5.0
+    study = design_smoke.quick(STUDY)[0]
+    scene = design_runs.hands_off(study, study.base)
+    a_end, b_end = resolved_runs.place_ends_s(scene)
+    assert a_end == scene.manoeuvre.timeline.boundaries()[1] < b_end == scene.steering.release_s
+    assert b_end < scene.manoeuvre.timeline.duration_s  # the pull is taken after place b
+
+    def window(start, end, left, right):
+        return {"start_s": start, "end_s": end, "resolved": True, "step_s": 2.5e-4,
+                "position_errors": {"left_translation": left, "right_translation": right}}
+    windows = [window(0.0, a_end - 0.2, 1e-6, 2e-6),  # the speed-up: places a and b
+               window(a_end + 0.1, b_end - 0.3, 4e-6, 8e-6),  # the lane change: b only
+               window(b_end + 0.1, b_end + 0.3, 1.0, 1.0)]  # hands off: neither
+    run = Run(scene, {"window_count": 3, "windows": windows, "finest_step_s": 2.5e-4,
+                      "window_steps": 100, "cpu_s": 2.0})
+    f = resolved_runs.resolution_fields(run)
+    assert f["windows"] == 3 and f["resolution_cpu_s"] == 2.0 and f["run_cpu_s"] == 5.0
+    assert (f["rest_error_left_a_m"], f["rest_error_right_a_m"]) == (1e-6, 2e-6)
+    assert f["rest_error_left_b_m"] == pytest.approx(5e-6)
+    assert f["rest_error_right_b_m"] == pytest.approx(1e-5)
+    # Hands on, place b ends with the run: every window counts there.
+    on = Run(study.base, run.resolution)
+    assert resolved_runs.resolution_fields(on)["rest_error_left_b_m"] == pytest.approx(1.000005)
+    none = resolved_runs.resolution_fields(Run(scene, {}))
+    assert none["windows"] == 0 and math.isnan(none["rest_error_left_a_m"])

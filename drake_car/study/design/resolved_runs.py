@@ -10,11 +10,14 @@ the spec's ``accuracy.finest_step_s``), in the study's one sweep. Every other ru
 study's step, its errors the half-step noise sample's (drawn from those runs: ``tables.noise_levels``),
 as on the global route. ``accuracy.jam_mu_s: 0`` resolves every dry run of the parts.
 
-A resolved run's lasting split carries the windows' error (``apply``): the rods' rest
-positions' error (per strut, the largest change of a window's rest position under its last
-halving) carried to the split as in the paper's study (``study.paper.local_route``): the
-left-right change of the rods' rest positions (place b less place a) errs by twice the sum of
-both struts' errors, the lasting split by that times the row's own split per left-right change.
+A resolved run's lasting split carries the windows' error (``apply``), carried as in the
+paper's study (``study.paper.local_route``): a strut's rest position at place a carries the
+errors of the windows before place a ends (the lane change's start), at place b of those before
+place b ends (the driver's release, hands off; else the run's end), each window's its
+convergence error plus what it inherits and the gap before it (``sim.resolve``); the left-right
+change of the rods' rest positions (place b less place a) errs by the sum of the four, the
+lasting split by that times the row's own split per left-right change. Windows after place b
+(hands off) do not count.
 What the windows do not cover is said, not estimated: a resolved run that opened no window, and
 the pull (hands off, after the release; not made of rest positions), keep the noise sample's
 level, and ``*_error_from`` says so. Between windows the run is at its step: an event the
@@ -24,12 +27,15 @@ import dataclasses
 import math
 
 from drake_car.model.geometry import SIDES
-from drake_car.scene.scene import ResolveEvents
+from drake_car.scene.load import hands_off_release_s
+from drake_car.scene.scene import HandsOff, ResolveEvents
 from drake_car.study.design.jam_cases import DECIDING, YES_NO, tolerances
+from drake_car.study.paper.local_route import errors_between
 
 # What the table gets of a run's resolution (``resolution_fields``).
 FIELDS = ("windows", "windows_resolved", "window_finest_step_s", "window_steps",
-          "resolution_cpu_s", "run_cpu_s", *(f"rest_error_{s}_m" for s in SIDES))
+          "resolution_cpu_s", "run_cpu_s",
+          *(f"rest_error_{s}_{p}_m" for s in SIDES for p in "ab"))
 # How a row's outcomes were resolved (the table's ``resolved_by``).
 WINDOWS, HALVING, NONE = "windows", "halving", "-"
 
@@ -69,18 +75,28 @@ def announcement(study, count, compare):
             f"{1e3 * a.finest_step_s:g} ms")
 
 
+def place_ends_s(scene):
+    """When places a and b end (the outcomes' ``place_values``): the lane change's start; the
+    driver's release (hands off), else the run's end (inf)."""
+    b = hands_off_release_s(scene) if isinstance(scene.steering, HandsOff) else math.inf
+    return scene.manoeuvre.timeline.boundaries()[1], b
+
+
 def resolution_fields(run):
     """The table's columns (``FIELDS``) of a run's resolution (NaN where it has none)."""
     r = (run.resolution or {}) if run is not None else {}
-    errors = r.get("position_errors") or {}
     windows = r.get("windows") or []
-    return {"windows": len(windows), "windows_resolved": sum(w["resolved"] for w in windows),
-            "window_finest_step_s": r.get("finest_step_s") or math.nan,
-            "window_steps": r.get("window_steps", 0) if r else 0,
-            "resolution_cpu_s": r.get("cpu_s", math.nan) if r else math.nan,
-            "run_cpu_s": run.cpu_s if run is not None else math.nan,
-            **{f"rest_error_{s}_m": errors.get(f"{s}_translation", math.nan) if windows
-               else math.nan for s in SIDES}}
+    fields = {"windows": len(windows), "windows_resolved": sum(w["resolved"] for w in windows),
+              "window_finest_step_s": r.get("finest_step_s") or math.nan,
+              "window_steps": r.get("window_steps", 0) if r else 0,
+              "resolution_cpu_s": r.get("cpu_s", math.nan) if r else math.nan,
+              "run_cpu_s": run.cpu_s if run is not None else math.nan}
+    ends = place_ends_s(run.scene) if windows else (math.nan, math.nan)
+    for place, end in zip("ab", ends):
+        errors = errors_between(run, end_s=end) if windows else None
+        for side in SIDES:
+            fields[f"rest_error_{side}_{place}_m"] = (errors or {}).get(side, math.nan)
+    return fields
 
 
 def apply(rows, study, noise, resolved):
@@ -116,14 +132,14 @@ def apply(rows, study, noise, resolved):
 
 def _split_error(row):
     """The lasting split's error from the rods' rest positions' (see the module), or None."""
-    errors = [row.get(f"rest_error_{s}_m", math.nan) for s in SIDES]
+    errors = [row.get(f"rest_error_{s}_{p}_m", math.nan) for s in SIDES for p in "ab"]
     if not row.get("windows") or not all(math.isfinite(e) for e in errors):
         return None
     change = ((row["dd_left_b_m"] - row["dd_right_b_m"])
               - (row["dd_left_a_m"] - row["dd_right_a_m"]))
     if not (math.isfinite(change) and change != 0.0):
         return None
-    return abs(row["split_change_rel"] / change) * 2.0 * sum(errors)
+    return abs(row["split_change_rel"] / change) * sum(errors)
 
 
 def summary(rows, study, resolved):
