@@ -11,7 +11,7 @@ DIR/sweep/ (a rerun reuses every finished run):
   - each mitigation over the same states; a sample of all of these at half the step (noise);
   - accuracy on demand where the struts jam (the spec's ``accuracy``: by default the maps',
     lines', Sobol's and mitigations' runs at μs >= 0.3, and --compare's): each resolves its
-    near-threshold stick-slip events locally, windows at halved steps, in the same sweep
+    struts' slips locally, windows at halved steps, in the same sweep
     (--refine local, the default), or is repeated at 1/2 and 1/4 of its step and halved
     further until its lasting split and pull converge (--refine global); --no_verify: neither.
 Writes DIR/report.md (what it means for a designer, with numbers) and DIR/study/: table.csv
@@ -79,7 +79,7 @@ def main(argv=None):
                    help="run the failed runs again (a rerun reuses them otherwise)")
     p.add_argument("--refine", choices=("local", "global"), default="local",
                    help="accuracy on demand for the jam cases (the spec's accuracy section): "
-                        "they resolve their near-threshold stick-slip events locally (local: "
+                        "they resolve their struts' slips locally (local: "
                         "the split's error covers the windows, docs/studies.md), or are halved "
                         "whole (global: the reference, several times the CPU) "
                         "(default: %(default)s)")

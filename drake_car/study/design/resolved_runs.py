@@ -4,7 +4,7 @@
 Which runs: the jam cases (``jam_cases.jam_scenes``: the runs of the spec's ``accuracy.parts``
 whose μs is at least ``accuracy.jam_mu_s``, and every run of the user's change), the runs whose
 lasting state the step can decide (a jammed strut's lasting split takes one of two branches).
-Each resolves its near-threshold stick-slip events locally (``sim.resolve``: its scene's
+Each resolves the stick-slip events of its struts locally (``sim.resolve``: its scene's
 ``simulator.resolve_events``, ``resolve_events`` here: windows re-run at halved steps, down to
 the spec's ``accuracy.finest_step_s``), in the study's one sweep. Every other run is at the
 study's step, its errors the half-step noise sample's (drawn from those runs: ``tables.noise_levels``),
@@ -36,14 +36,17 @@ from drake_car.study.paper.local_route import errors_between
 FIELDS = ("windows", "windows_resolved", "window_finest_step_s", "window_steps",
           "resolution_cpu_s", "run_cpu_s",
           *(f"rest_error_{s}_{p}_m" for s in SIDES for p in "ab"))
+# Which slips a run resolves, by ``ResolveEvents.events``: in words.
+EVENT_WORDS = {"all": "every slip of their struts", "near": "their near-threshold stick-slip events"}
 # How a row's outcomes were resolved (the table's ``resolved_by``).
 WINDOWS, HALVING, NONE = "windows", "halving", "-"
 
 
 def resolve_events(study):
     """The jam cases' ``ResolveEvents``: windows down to the spec's ``accuracy.finest_step_s``,
-    opened by the events near their threshold (``sim.resolve``'s triggers). Which events open
-    a window is set here, on this one line (``ResolveEvents.events``, once it has it). Measured
+    one at every break-away of a strut (``events="all"``; "near": only where the run's step
+    shows the event near its threshold). Which events open a window is set here, on its one
+    line. Measured with the resolver before main's 0d49962
     on --quick (docs/studies.md): the near-threshold triggers miss a break-away the step
     decides in 4 of the 17 jam cases (their splits 0.05-0.19 % of the corner load from the
     global route's, beyond their errors); a window at every break-away of a strut agrees in
@@ -71,7 +74,7 @@ def announcement(study, count, compare):
     a = study.accuracy
     return (f"accuracy on demand: {count} runs (at μs >= {a.jam_mu_s:g} of "
             f"{', '.join(a.parts)}" + (", and --compare's" if compare else "")
-            + f") resolve their near-threshold events locally, down to "
+            + f") resolve {EVENT_WORDS[resolve_events(study).events]} locally, down to "
             f"{1e3 * a.finest_step_s:g} ms")
 
 
@@ -179,7 +182,8 @@ def summary(rows, study, resolved):
                     "error": r["split_change_rel_error"]} for r in mine
                    if r.get("split_change_rel_converged") == "no"]
     a = study.accuracy
-    return {"route": "local", "jam_mu_s": a.jam_mu_s, "parts": list(a.parts),
+    return {"route": "local", "events": resolve_events(study).events,
+            "jam_mu_s": a.jam_mu_s, "parts": list(a.parts),
             "compare": any(r["role"] == "compare" for r in mine),
             "finest_step_s": a.finest_step_s, "tolerances": tolerances(study),
             "runs": len(mine), "by_part": by_part, "totals": totals,
@@ -195,7 +199,7 @@ def report_lines(acc):
              f"The {acc['runs']} runs of {', '.join(acc['parts'])} at μs ≥ "
              f"{acc['jam_mu_s']:g}" + (" and of the user's change (--compare) at any μs"
                                        if acc.get("compare") else "")
-             + " resolved their near-threshold stick-slip events locally: windows re-run at "
+             + f" resolved {EVENT_WORDS[acc.get('events', 'near')]} locally: windows re-run at "
              f"halved steps, down to {1e3 * acc['finest_step_s']:g} ms, until their outcome no "
              "longer changed (`sim.resolve`); the rest of each run is at the study's step. "
              "Their lasting split's error is the windows' (the rods' rest positions' error "

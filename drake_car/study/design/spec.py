@@ -90,7 +90,7 @@ PARTS = ("map", "line", "sobol", "mc", "mitigation")
 @dataclasses.dataclass
 class Accuracy:
     """Accuracy on demand for the jam cases: every run of ``parts`` whose μs is at least
-    ``jam_mu_s`` resolves its near-threshold stick-slip events locally, at halved steps down to
+    ``jam_mu_s`` resolves every slip of its struts locally, at halved steps down to
     ``finest_step_s`` (``--refine local``, ``study.design.resolved_runs``), or is repeated at
     half and a quarter of its step and halved further (down to ``finest_step_s``, within
     ``budget_s`` of wall) until its lasting split and its pull agree within their tolerances
