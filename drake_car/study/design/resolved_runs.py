@@ -46,11 +46,10 @@ def resolve_events(study):
     """The jam cases' ``ResolveEvents``: windows down to the spec's ``accuracy.finest_step_s``,
     one at every break-away of a strut (``events="all"``; "near": only where the run's step
     shows the event near its threshold). Which events open a window is set here, on its one
-    line. Measured with the resolver before main's 0d49962
-    on --quick (docs/studies.md): the near-threshold triggers miss a break-away the step
-    decides in 4 of the 17 jam cases (their splits 0.05-0.19 % of the corner load from the
-    global route's, beyond their errors); a window at every break-away of a strut agrees in
-    all 17, at 1.7 times the windows' CPU (the study 1.67× its unrefined run, not 1.43×)."""
+    line. Measured on --quick (docs/studies.md, 17 jam cases against the global route): "near"
+    misses a break-away the step decides in 3 of them (their splits 0.05-0.19 % of the corner
+    load from the global route's, beyond their errors: no window opened); "all" agrees in all
+    17, the study at 2.41× its unrefined run's CPU rather than 1.80×."""
     return ResolveEvents(finest_step_s=study.accuracy.finest_step_s, events="all")
 
 
