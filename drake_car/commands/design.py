@@ -27,8 +27,8 @@ says so on every page (report, figure titles, summary.json, stderr) and its numb
 findings.
 
   drake-car-design --out results/design          (its runs: 39 min on this 2-core
-      machine beside other work; resolving the jam cases adds about 0.8 of that [EST from
-      a sample, docs/studies.md]; --refine global added 37 min without Sobol's jam points)
+      machine beside other work; resolving the jam cases adds about 2.3 times that [EST
+      from a sample, docs/studies.md]; --refine global about 3 times)
   drake-car-design --out /tmp/design --quick     (a smoke run, ~2 min)
   drake-car-design --out results/design_sedan \
       --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
