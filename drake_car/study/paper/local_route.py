@@ -237,16 +237,18 @@ def error_method(refinement):
         return "- **numerical error**: not estimated (one step only, --no_verify)."
     local = refinement.get("route") == "local"
     text = ("- **numerical error** (accuracy on demand): " + (
-        "the runs with dry friction resolve their stick-slip events locally: where an event is "
-        "near its threshold (a strut at its full static friction, or creeping through the "
-        "static band), the run re-runs that window at halved steps until its outcome (each "
-        "strut's slips and sticks, where it rests, how close it came to breaking away) no "
-        "longer changes with a halving, and goes on at its own step (`sim.resolve`; each "
-        "run's `resolution` in run.json, its events in events.csv). Their error is the "
-        "windows' last change of the rods' rest positions, carried to each outcome (a "
-        "place's position: once, a shift: twice, the left-right change: both struts', the "
-        "lasting split: the left-right change's times the run's split per millimetre); "
-        "outcomes not made of rest positions get none (\"-\"). The runs without dry friction "
+        "the runs with dry friction resolve every slip of their struts locally: the run "
+        "re-runs each window around a slip at halved steps until where the rods rest has "
+        "converged (the same rule as below, on the window's last three levels: each strut's "
+        "slips and sticks the same, a strut at full creep settled), and goes on at its own "
+        "step from the finest level (`sim.resolve`; each run's `resolution` in run.json, its "
+        "events in events.csv). A window's error is its rest positions' plus what it inherits "
+        "from the last window (its level 0 run again from the last window's next coarser "
+        "end; windows that inherit more than the tolerance are resolved as one) and from the "
+        "gap before it (gap and window again at half the step); a rest position carries the "
+        "windows' errors before it (their sum), carried to each outcome by when it is taken "
+        "and how it is made of the rods' positions; a peak takes its window's levels' "
+        "convergence; the forces at rest get none (\"-\"). The runs without dry friction "
         "are repeated at half and a quarter of their step, " if local else
         "every run is repeated at half and a quarter of its step, ") + (
         "and the runs an outcome has not "
@@ -260,7 +262,8 @@ def error_method(refinement):
         "part)" + ("; the locally resolved runs have no solver twin" if local else "") + ". A "
         "maximum over runs is taken over each run's own value, its error the largest of "
         "theirs: a run is only ever compared with itself. A verdict is decided only where its "
-        "margin exceeds that error; \"n × the error\" says by how much."))
+        "margin exceeds that error (a value that did not converge: the spread of its last "
+        "three steps or levels); \"n × the error\" says by how much."))
     return text
 
 
@@ -268,9 +271,10 @@ def local_error(row, shown):
     """A locally resolved measure's error as the report writes it (``shown``: the error as a
     quantity)."""
     finest = row.get("finest_step_s")
-    where = f"events resolved down to {1e3 * finest:g} ms" if finest else "no window"
+    where = f"slips resolved down to {1e3 * finest:g} ms" if finest else "no window"
     if row["error"] is None:
-        return f"not estimated by the local route ({where}; not made of rest positions)"
+        return (f"not estimated by the local route ({where}; a force at rest, or a peak "
+                "between windows)")
     if not row["converged"]:
         return f"±{shown} from the windows, not converged ({where})"
     return f"±{shown} ({where})"
