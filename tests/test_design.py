@@ -309,7 +309,7 @@ def test_the_study_s_runs():
 def test_design_study_quick_end_to_end(tmp_path):
     out = tmp_path / "design"
     command = [sys.executable, str(ROOT / "experiments" / "design.py"), "--out",
-               str(out), "--quick"]
+               str(out), "--quick", "--refine", "local"]
     result = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
     study = out / "study"
@@ -330,7 +330,7 @@ def test_design_study_quick_end_to_end(tmp_path):
     assert len(table) - 1 == summary["runs"]["total"]
     with open(study / "table.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    # Accuracy on demand (the default, local route): every jam case of the refined parts
+    # Accuracy on demand, local route: every jam case of the refined parts
     # (Sobol's included) resolved its events, its row from that run; the others at the study's
     # step with the noise sample's error, the noise sample drawn from them.
     resolved = [r for r in rows if r["resolved_by"] == "windows"]
@@ -359,7 +359,7 @@ def test_design_study_quick_end_to_end(tmp_path):
 
 @pytest.mark.slow
 def test_design_study_quick_on_the_global_route(tmp_path):
-    """--refine global, the reference: every jam case ran at three steps or more and says
+    """--refine global (the default, the reference): every jam case ran at three steps or more and says
     whether it converged; the others carry the noise sample's error."""
     out = tmp_path / "design"
     result = subprocess.run([sys.executable, str(ROOT / "experiments" / "design.py"), "--out",
