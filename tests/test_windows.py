@@ -19,9 +19,9 @@ def _levels(positions, counts=None, margins=None):
 
 
 def test_a_window_resolves_when_its_rest_position_converges_not_when_it_merely_agrees():
-    # a_2's return window (issue 32, mm): 1, 0.5, 0.25 ms agree within 6 µm but do not shrink
-    # at first order; 0.125 ms stops twice instead of three times; 0.125, 0.0625, 0.03125 ms
-    # converge.
+    # a_2's return window (issue 32; the rods' rest positions after it, m): 1, 0.5, 0.25 ms
+    # agree within 6 µm but do not shrink at first order; 0.125 ms stops twice instead of
+    # three times; 0.125, 0.0625, 0.03125 ms converge.
     mm = [6.4769e-3, 6.4736e-3, 6.4791e-3, 5.9707e-3, 5.9762e-3, 5.9791e-3]
     counts = [(3, 3)] * 3 + [(2, 2)] * 3
     levels = _levels(mm, counts)

@@ -122,11 +122,16 @@ def spliced_history(history, spliced):
     return {k: np.concatenate([p[k] for p in parts])[order] for k in history}
 
 
+def span(values):
+    """max - min of ``values``."""
+    return max(values) - min(values)
+
+
 def record(settings, windows):
     """What a run's resolution did and cost (JSON-ready): its ``windows``' records."""
     standing = windows
     errors = {}  # a rest position carries every window's error before it: their sum
-    for w in standing:
+    for w in windows:
         for pair, error in w["position_errors"].items():
             errors[pair] = errors.get(pair, 0.0) + error
     return {"settings": dataclasses.asdict(settings), "windows": windows,

@@ -1,5 +1,5 @@
-"""The design study's accuracy on demand, local route (``--refine local``, the default;
-``--refine global`` halves the jam cases' whole step instead, ``study.design.jam_cases``).
+"""The design study's accuracy on demand, local route (``--refine local``; the default,
+``--refine global``, halves the jam cases' whole step instead, ``study.design.jam_cases``).
 
 Which runs: the jam cases (``jam_cases.jam_scenes``: the runs of the spec's ``accuracy.parts``
 whose μs is at least ``accuracy.jam_mu_s``, and every run of the user's change), the runs whose
@@ -20,8 +20,8 @@ lasting split by that times the row's own split per left-right change. Windows a
 (hands off) do not count.
 What the windows do not cover is said, not estimated: a resolved run that opened no window, and
 the pull (hands off, after the release; not made of rest positions), keep the noise sample's
-level, and ``*_error_from`` says so. Between windows the run is at its step: an event the
-triggers do not flag can still be decided by it (``resolve_events``)."""
+level, and ``*_error_from`` says so. Between windows every strut is static (every slip opens
+a window: ``resolve_events``), and the gaps' step error is in the windows' errors."""
 
 import dataclasses
 import math
@@ -198,7 +198,7 @@ def report_lines(acc):
              f"The {acc['runs']} runs of {', '.join(acc['parts'])} at μs ≥ "
              f"{acc['jam_mu_s']:g}" + (" and of the user's change (--compare) at any μs"
                                        if acc.get("compare") else "")
-             + f" resolved {EVENT_WORDS[acc.get('events', 'near')]} locally: windows re-run at "
+             + f" resolved {EVENT_WORDS[acc.get('events', 'all')]} locally: windows re-run at "
              f"halved steps, down to {1e3 * acc['finest_step_s']:g} ms, until their outcome no "
              "longer changed (`sim.resolve`); the rest of each run is at the study's step. "
              "Their lasting split's error is the windows' (the rods' rest positions' error "
@@ -226,6 +226,6 @@ def report_lines(acc):
                   + ", ".join(f"{u['name']} ({100 * u['value']:+.2f} ± "
                               f"{100 * u['error']:.2f} %)" for u in acc["not_converged"]), ""]
     if acc["no_window"]:
-        lines += [f"Resolved runs that opened no window (no event near its threshold; their "
+        lines += [f"Resolved runs that opened no window (no strut slipped; their "
                   f"error is the noise sample's): {', '.join(acc['no_window'])}.", ""]
     return lines

@@ -53,7 +53,7 @@ def accurate_runs(scenes, roles, timeline, simulate, *, route, extra, halve, fin
     the first round too, at their step; ``simulate``: a round's scenes to Runs;
     ``solver_twin``: the globally refined runs' solver axis (``sweep.refine``; the locally
     resolved runs have none)."""
-    resolved = resolved_scenes(scenes) if route == "local" else scenes
+    resolved = resolved_scenes(scenes, finest_step_s) if route == "local" else scenes
     local = [n for n in scenes if resolved[n] is not scenes[n]]
     refined = refine({n: s for n, s in scenes.items() if n not in local},
                      outcomes_of_runs(roles, timeline), tolerances(), simulate,
@@ -89,12 +89,12 @@ def finest_run(levels: dict, name):
     return finest
 
 
-def resolved_scenes(scenes: dict):
-    """name -> scene, those with dry friction resolving their events (``ResolveEvents()``'s
-    defaults); the others as they are."""
+def resolved_scenes(scenes: dict, finest_step_s=ResolveEvents.finest_step_s):
+    """name -> scene, those with dry friction resolving every slip of their struts
+    (``ResolveEvents`` down to ``finest_step_s``); the others as they are."""
     return {name: dataclasses.replace(s, simulator=dataclasses.replace(
-        s.simulator, resolve_events=ResolveEvents())) if _dry(s) else s
-        for name, s in scenes.items()}
+        s.simulator, resolve_events=ResolveEvents(finest_step_s=finest_step_s)))
+        if _dry(s) else s for name, s in scenes.items()}
 
 
 def _dry(scene):
@@ -147,6 +147,8 @@ def peak_error(run, outcome, tolerance):
             return before, before <= tolerance
         return None, None
     w = windows[0]
+    if len(w["levels"]) < 3:  # no convergence to judge
+        return None, None
     series = [max(abs(lo - ref), abs(hi - ref)) / scale
               for lo, hi in (lv["extrema"][channel.format(side)] for lv in w["levels"])]
     found = classify(series, tolerance)

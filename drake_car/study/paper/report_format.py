@@ -65,8 +65,13 @@ def flip(row):
     if not row["converged"]:
         if row["unit"] == "count" or not row.get("decided"):
             return "**not converged**"
-        return (f"{row['margin'] / row['error']:.0f} × its spread (not converged at first "
-                "order: the spread of its last three steps)")
+        n = row["margin"] / row["error"]
+        n = f"{n:.0f}" if n >= 10 else f"{n:.1f}"
+        if row.get("route") == "local":
+            return (f"{n} × its error (the windows' summed error, above its tolerance: "
+                    "not converged)")
+        return (f"{n} × its spread (not converged at first order: the spread of its last "
+                "three steps)")
     if row["unit"] == "count":
         return "exact (a converged count)"
     if row["error"] == 0:
