@@ -73,3 +73,23 @@ def test_an_interrupt_stops_a_rig_between_monitor_chunks():
     assert 0 < t < 300.0 and abs(t / period - round(t / period)) < 1e-6, t
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     assert runner.wall_s > 0 and np.isfinite(runner.cpu_s)
+
+
+def test_a_signal_the_process_ignores_does_not_cut_a_run_short():
+    """A run whose process ignores SIGINT (started in the background by a shell without job
+    control) runs its whole length when one arrives: noted and then raised into nothing, it
+    had stopped the run early as if finished (a static equilibrium settled for less than its
+    time, then cached)."""
+    from drake_car.sim.simulation import deferred_signals
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with deferred_signals() as caught:
+            signal.raise_signal(signal.SIGINT)
+        assert caught == [], "an ignored signal is not noted"
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    with pytest.raises(KeyboardInterrupt):  # not ignored: noted, then raised at the end
+        with deferred_signals() as caught:
+            signal.raise_signal(signal.SIGINT)
+            assert caught == [signal.SIGINT]

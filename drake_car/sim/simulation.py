@@ -188,7 +188,12 @@ def deferred_signals():
     raised again with the handlers that were there before (KeyboardInterrupt, or
     ``results.folder.terminate_as_exit``'s SystemExit)."""
     caught = []
-    signals = (signal.SIGINT, signal.SIGTERM)
+    # A signal the process ignores stays ignored: noted, it would stop the run early and, its
+    # handler restored, be raised into nothing, leaving a run cut short that looks finished
+    # (a static equilibrium settled for less than its time, then cached: CI started in the
+    # background, SIGINT ignored, once cached one).
+    signals = [s for s in (signal.SIGINT, signal.SIGTERM)
+               if signal.getsignal(s) is not signal.SIG_IGN]
     try:
         previous = {s: signal.signal(s, lambda signum, frame: caught.append(signum))
                     for s in signals}
