@@ -29,8 +29,9 @@ says so on every page (report, figure titles, summary.json, stderr) and its numb
 findings.
 
   drake-car-design --out results/design          (its runs: 39 min on this 2-core
-      machine beside other work; resolving the jam cases adds about 2.3 times that [EST
-      from a sample, docs/studies.md]; --refine global about 3 times)
+      machine beside other work; refining the jam cases (the default, --refine global)
+      adds about 3 times that, --refine local about 2.3 times [EST from a sample,
+      docs/studies.md])
   drake-car-design --out /tmp/design --quick     (a smoke run, ~2 min)
   drake-car-design --out results/design_sedan \
       --scene_text "{tyres: !MagicFormula {tir_file: tests/data/tyres/Sedan_Pac02Tire.tir}}"
