@@ -329,14 +329,7 @@ class Resolver:
         comes from the run's own step, every strut static since the start)."""
         if self.alternative is None:
             return {}
-        start = self.alternative
-        twin = Outcome(0, self.runner.scene.time_step_s, start.time_s, {}, {}, {}, [])
-        runner = self._level_runner(0)
-        self._start_level(runner, start)
-        self._advance(runner, twin, end_s, until_quiet=False, to_s=outcomes[0].end_s)
-        outcomes[0].cpu_s += twin.cpu_s
-        outcomes[0].steps += twin.steps
-        return {i: abs(twin.positions[i] - outcomes[0].positions[i]) for i in self.selected}
+        return self._twin(outcomes[0], self.alternative, end_s)
 
     def _gap(self, outcomes, checkpoint, end_s):
         """{pair: the error of the gap before this window}: the run went from the last window's
@@ -348,16 +341,21 @@ class Resolver:
         if (start is None or checkpoint.time_s <= start.time_s + _EPS
                 or len(outcomes) < 3):
             return {}
-        twin = Outcome(1, outcomes[1].step_s, start.time_s, {}, {}, {}, [])
-        runner = self._level_runner(1)
-        self._start_level(runner, start)
-        self._advance(runner, twin, end_s, until_quiet=False, to_s=outcomes[1].end_s)
-        outcomes[1].cpu_s += twin.cpu_s
-        outcomes[1].steps += twin.steps
         # The gap ran at h, the twin at h/2: at first order the gap's error at h is twice
         # their difference.
-        return {i: 2.0 * abs(twin.positions[i] - outcomes[1].positions[i])
-                for i in self.selected}
+        return {i: 2.0 * e for i, e in self._twin(outcomes[1], start, end_s).items()}
+
+    def _twin(self, level, start, end_s):
+        """{pair: how far its rest position at ``level``'s end moves} when ``level`` (an
+        outcome) is run again from ``start`` (a Checkpoint) in its own Diagram; the twin's
+        steps and CPU are counted to it."""
+        twin = Outcome(level.level, level.step_s, start.time_s, {}, {}, {}, [])
+        runner = self._level_runner(level.level)
+        self._start_level(runner, start)
+        self._advance(runner, twin, end_s, until_quiet=False, to_s=level.end_s)
+        level.cpu_s += twin.cpu_s
+        level.steps += twin.steps
+        return {i: abs(twin.positions[i] - level.positions[i]) for i in self.selected}
 
     def _hand_back(self, checkpoint, chosen):
         """The resolving level's end state into the runner, its history and events kept."""

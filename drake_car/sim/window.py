@@ -129,15 +129,14 @@ def span(values):
 
 def record(settings, windows):
     """What a run's resolution did and cost (JSON-ready): its ``windows``' records."""
-    standing = windows
     errors = {}  # a rest position carries every window's error before it: their sum
     for w in windows:
         for pair, error in w["position_errors"].items():
             errors[pair] = errors.get(pair, 0.0) + error
     return {"settings": dataclasses.asdict(settings), "windows": windows,
-            "window_count": len(standing),
-            "resolved": sum(w["resolved"] for w in standing),
-            "finest_step_s": min((w["step_s"] for w in standing), default=None),
+            "window_count": len(windows),
+            "resolved": sum(w["resolved"] for w in windows),
+            "finest_step_s": min((w["step_s"] for w in windows), default=None),
             "position_errors": errors,
             "window_steps": sum(sum(lv["steps"] for lv in w["levels"]) + w["merged"]["steps"]
                                 for w in windows),
