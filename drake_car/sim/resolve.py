@@ -60,17 +60,15 @@ The cost: a window of length W costs W/h·(1 + 2 + ... + 2^k) steps; the run's r
 (``Run.resolution``) gives every window, its levels, what each found, their steps and CPU.
 """
 
-import dataclasses
 import math
 import time
 
 import numpy as np
 
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
-from drake_car.model.geometry import SIDES
-from drake_car.scene.scene import NoVisualization, at_time_step
 from drake_car.sim.window import (
-    Checkpoint, Outcome, extrema, judge, record, span, spliced_history, summarise)
+    Checkpoint, Outcome, extrema, judge, quiet, record, span, spliced_history, start_level,
+    summarise, window_record)
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state, state_values
 
@@ -78,17 +76,21 @@ _EPS = 1e-9
 class Resolver:
     """The windows of one ``sim.simulate.Runner`` (see the module)."""
 
-    def __init__(self, runner, *, make_runner):
-        """``make_runner(scene, branchable=...)``: a runner of another scene (the levels')."""
+    def __init__(self, runner, *, settings, step_s, make_level, selects):
+        """``settings``: a ``scene.scene.ResolveEvents``; ``step_s``: the run's step;
+        ``make_level(step_s)``: a runner of the same simulation at another step (its events
+        read after each chunk, as ``runner``'s are: ``events``, ``event_count``);
+        ``selects(name)``: whether a friction pair (by name) is resolved (with
+        ``settings.pairs``)."""
         self.runner = runner
-        self._make_runner = make_runner
-        self.settings = runner.scene.simulator.resolve_events
+        self._make_level = make_level
+        self.settings = settings
+        self.step_s = step_s
         friction = runner.built.friction
         self.friction = friction
         self.names = friction.pair_names()
         kinds = friction.pair_kinds()
-        self.selected = [i for i, name in enumerate(self.names)
-                         if name.split("_")[0] in SIDES
+        self.selected = [i for i, name in enumerate(self.names) if selects(name)
                          and (self.settings.pairs == "all" or kinds[i] == "translation")]
         self.tolerance = {i: (self.settings.position_tolerance_m if kinds[i] == "translation"
                               else self.settings.angle_tolerance_rad) for i in self.selected}
@@ -217,23 +219,10 @@ class Resolver:
         self.after_last = Checkpoint(chosen.end_s, state_values(self.runner.built,
                                                                  self.runner.root),
                                      self.runner.monitor.snapshot(), 0)
-        self.windows.append({
-            "start_s": checkpoint.time_s, "end_s": chosen.end_s,
-            "trigger": {"time_s": float(trigger[0]), "pair": self.names[int(trigger[1])],
-                        "kind": "saturation" if trigger[2] == SATURATION else "break_away"},
-            "resolved": resolved, "step_s": chosen.step_s,
-            "position_errors": {self.names[i]: e for i, e in errors.items()},
-            "inherited_errors": {self.names[i]: e for i, e in inherited.items()},
-            "gap_errors": {self.names[i]: e for i, e in gap.items()},
-            "merged": merged,
-            "levels": [{"step_s": o.step_s, "steps": o.steps, "cpu_s": o.cpu_s,
-                        "counts": {self.names[i]: list(c) for i, c in o.counts.items()},
-                        "times": {self.names[i]: t for i, t in o.times.items()},
-                        "positions": {self.names[i]: p for i, p in o.positions.items()},
-                        "margins": {self.names[i]: m for i, m in o.margins.items()},
-                        "extrema": o.extrema}
-                       for o in outcomes],
-            "cpu_s": time.process_time() - began_cpu + merged["cpu_s"]})
+        self.windows.append(window_record(
+            self.names, checkpoint, chosen, trigger, outcomes, resolved=resolved, errors=errors,
+            inherited=inherited, gap=gap, merged=merged,
+            cpu_s=time.process_time() - began_cpu + merged["cpu_s"]))
 
     def _levels(self, checkpoint, trigger, end_s):
         """The window from ``checkpoint`` run at level 0, 1, ... until ``judge`` resolves it
@@ -247,39 +236,21 @@ class Resolver:
             errors = judge(outcomes, self.selected, self.tolerance)
             if errors is not None:
                 return outcomes, errors
-            if self.runner.scene.time_step_s / 2 ** (level + 1) < s.finest_step_s * (1 - _EPS):
+            if self.step_s / 2 ** (level + 1) < s.finest_step_s * (1 - _EPS):
                 return outcomes, None
             level += 1
 
     def _level_runner(self, level):
         if level not in self.levels:
-            base = self.runner.scene
-            scene = dataclasses.replace(
-                at_time_step(base, base.time_step_s / 2 ** level), visualization=NoVisualization(),
-                simulator=dataclasses.replace(base.simulator, resolve_events=None))
-            self.levels[level] = self._make_runner(
-                scene, branchable=self.runner.built.case_port is not None)
+            self.levels[level] = self._make_level(self.step_s / 2 ** level)
         return self.levels[level]
 
     def _run_level(self, level, checkpoint, end_s, reach_s):
         runner = self._level_runner(level)
-        self._start_level(runner, checkpoint)
-        outcome = Outcome(level, runner.scene.time_step_s, checkpoint.time_s, {}, {}, {}, [])
+        start_level(runner, checkpoint)
+        outcome = Outcome(level, self.step_s / 2 ** level, checkpoint.time_s, {}, {}, {}, [])
         self._advance(runner, outcome, end_s, until_quiet=True, to_s=reach_s)
         return outcome
-
-    def _start_level(self, runner, checkpoint):
-        """``runner`` set to ``checkpoint``'s state, its logs and events emptied."""
-        set_state(runner.built, runner.simulator, checkpoint.values)
-        runner.root = runner.simulator.get_mutable_context()
-        runner.built.velocity_logger.FindMutableLog(runner.root).Clear()
-        for logger in runner.built.loggers.values():
-            logger.FindMutableLog(runner.root).Clear()
-        runner.monitor.restore(checkpoint.monitor)
-        friction = runner.built.friction
-        context = friction.GetMyMutableContextFromRoot(runner.root)
-        friction.reset_peaks(context)
-        runner.events, runner.event_count = [], friction.event_count(context)
 
     def _advance(self, runner, outcome, end_s, until_quiet, to_s=None):
         """Runs ``runner`` chunk by chunk until it is quiet (and at least at ``to_s``), or
@@ -289,26 +260,14 @@ class Resolver:
         while runner.root.get_time() < end_s - _EPS:
             now = runner.root.get_time()
             if (to_s is None or now >= to_s - _EPS) and now > outcome.end_s + _EPS and (
-                    not until_quiet or self._quiet(runner)):
+                    not until_quiet
+                    or quiet(runner, self.selected, self.dmax, self.settings.hold_s)):
                 break
             runner.step_chunk(min((math.floor(now / period + _EPS) + 1) * period, end_s))
         outcome.end_s = runner.root.get_time()
         outcome.steps += runner.monitor.stats.steps - steps0
         outcome.cpu_s += time.process_time() - began
         summarise(runner, outcome, self.selected)
-
-    def _quiet(self, runner):
-        """Every selected pair static, short of its full creep, and without an event for
-        ``hold_s``."""
-        friction = runner.built.friction
-        context = friction.GetMyContextFromRoot(runner.root)
-        phase, creep = friction.phases(context), friction.creeps(context)
-        now = runner.root.get_time()
-        for i in self.selected:
-            if phase[i] != 0.0 or abs(creep[i]) >= self.dmax[i] * (1 - _EPS):
-                return False
-        return not any(int(row[1]) in self.selected and row[0] > now - self.settings.hold_s
-                       for row, _, _ in runner.events)
 
     def _common_end(self, outcomes, end_s):
         """All levels run to one end: the latest, where each of them is quiet."""
@@ -351,7 +310,7 @@ class Resolver:
         steps and CPU are counted to it."""
         twin = Outcome(level.level, level.step_s, start.time_s, {}, {}, {}, [])
         runner = self._level_runner(level.level)
-        self._start_level(runner, start)
+        start_level(runner, start)
         self._advance(runner, twin, end_s, until_quiet=False, to_s=level.end_s)
         level.cpu_s += twin.cpu_s
         level.steps += twin.steps

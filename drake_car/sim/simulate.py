@@ -18,7 +18,8 @@ from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.scene.load import (
     WALL_PER_STEP_S, dump_scene, dump_scene_file, scene_hash)
-from drake_car.scene.scene import MeshcatLive, MeshcatReplay, Scene
+from drake_car.scene.scene import (
+    MeshcatLive, MeshcatReplay, NoVisualization, Scene, at_time_step)
 from drake_car.sim.build import build_diagram
 from drake_car.sim.driver_wiring import manoeuvre_outcome
 from drake_car.sim import equilibrium_cache
@@ -146,7 +147,10 @@ class SceneRunner(Runner):
         self.events, self.event_count, self.events_lost, self.last_rows = [], 0, 0, []
         self.resolver = None
         if scene.simulator.resolve_events is not None and built.friction is not None:
-            self.resolver = Resolver(self, make_runner=SceneRunner)
+            self.resolver = Resolver(
+                self, settings=scene.simulator.resolve_events, step_s=scene.time_step_s,
+                make_level=functools.partial(level_runner, scene, built.case_port is not None),
+                selects=lambda name: name.split("_")[0] in SIDES)
 
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
@@ -207,6 +211,15 @@ class SceneRunner(Runner):
                    final=final, diagram_dot=result.diagram_dot, replay_html=html,
                    cpu_s=result.cpu_s, events=self.event_table(),
                    resolution=None if self.resolver is None else self.resolver.record())
+
+
+def level_runner(scene, branchable, step_s):
+    """A runner of ``scene`` at ``step_s``, without visualisation or resolution: a window's level
+    (``sim.resolve``)."""
+    level = dataclasses.replace(
+        at_time_step(scene, step_s), visualization=NoVisualization(),
+        simulator=dataclasses.replace(scene.simulator, resolve_events=None))
+    return SceneRunner(level, branchable=branchable)
 
 
 def event_columns(events, pair_names, dv, lost=0):

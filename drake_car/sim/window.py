@@ -10,6 +10,7 @@ import numpy as np
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
 from drake_car.sim.convergence import classify
 from drake_car.sim.simulation import logged_history
+from drake_car.sim.transfer import set_state
 
 _EPS = 1e-9
 # A pair at full creep that did not break away: its reserve (the capacity its force left
@@ -74,6 +75,36 @@ def summarise(runner, outcome, selected):
                               else None)
 
 
+def start_level(runner, checkpoint):
+    """``runner`` (a level's) set to ``checkpoint``'s state, its logs and events emptied."""
+    set_state(runner.built, runner.simulator, checkpoint.values)
+    runner.root = runner.simulator.get_mutable_context()
+    velocity_logger = getattr(runner.built, "velocity_logger", None)
+    if velocity_logger is not None:
+        velocity_logger.FindMutableLog(runner.root).Clear()
+    for logger in runner.built.loggers.values():
+        logger.FindMutableLog(runner.root).Clear()
+    runner.monitor.restore(checkpoint.monitor)
+    friction = runner.built.friction
+    context = friction.GetMyMutableContextFromRoot(runner.root)
+    friction.reset_peaks(context)
+    runner.events, runner.event_count = [], friction.event_count(context)
+
+
+def quiet(runner, selected, dmax, hold_s):
+    """Whether every ``selected`` pair of ``runner`` is static, short of its full creep
+    (``dmax``: pair -> Δmax), and without an event for ``hold_s``."""
+    friction = runner.built.friction
+    context = friction.GetMyContextFromRoot(runner.root)
+    phase, creep = friction.phases(context), friction.creeps(context)
+    now = runner.root.get_time()
+    for i in selected:
+        if phase[i] != 0.0 or abs(creep[i]) >= dmax[i] * (1 - _EPS):
+            return False
+    return not any(int(row[1]) in selected and row[0] > now - hold_s
+                   for row, _, _ in runner.events)
+
+
 def judge(outcomes, selected, tolerance):
     """Whether the last three levels of a window resolve it (``sim.resolve``): {pair: the
     error of its rest position}, or None; ``selected``: the pairs judged, ``tolerance``: pair ->
@@ -120,6 +151,27 @@ def spliced_history(history, spliced):
     times = np.concatenate([p["t"] for p in parts])
     order = np.argsort(times, kind="stable")
     return {k: np.concatenate([p[k] for p in parts])[order] for k in history}
+
+
+def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, errors, inherited,
+                  gap, merged, cpu_s):
+    """A window's record (JSON-ready; ``sim.resolve``): ``names`` the friction's pair names,
+    ``chosen`` the level it hands back, the errors per pair index."""
+    def by_name(values):
+        return {names[i]: v for i, v in values.items()}
+    return {
+        "start_s": checkpoint.time_s, "end_s": chosen.end_s,
+        "trigger": {"time_s": float(trigger[0]), "pair": names[int(trigger[1])],
+                    "kind": "saturation" if trigger[2] == SATURATION else "break_away"},
+        "resolved": resolved, "step_s": chosen.step_s,
+        "position_errors": by_name(errors), "inherited_errors": by_name(inherited),
+        "gap_errors": by_name(gap), "merged": merged,
+        "levels": [{"step_s": o.step_s, "steps": o.steps, "cpu_s": o.cpu_s,
+                    "counts": {names[i]: list(c) for i, c in o.counts.items()},
+                    "times": by_name(o.times), "positions": by_name(o.positions),
+                    "margins": by_name(o.margins), "extrema": o.extrema}
+                   for o in outcomes],
+        "cpu_s": cpu_s}
 
 
 def span(values):
