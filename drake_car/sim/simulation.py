@@ -119,7 +119,7 @@ class Runner:
 
     def advance_to(self, end):
         """Runs to ``end`` in the monitor's chunks; ``before_chunk`` and ``after_chunk`` (no-ops
-        here) act between chunks (the car's runner: its stick-slip events, ``sim.resolve``)."""
+        here) act between chunks (``sim.slips``: the friction's events, ``sim.resolve``)."""
         period = self.built.monitor_period_s
         now = self.root.get_time()
         bar = progress_bar(self.built.name, self.end_time_s, now) if self.progress else None

@@ -3,7 +3,8 @@ stick-slipping on a belt (its period, where its slips start, how far it lags the
 oscillator with friction (its amplitude's decay per cycle) and an incline (stick below tan⁻¹ μs,
 slide above). Used by benchmarks/friction_convergence.py and tests/test_reference_convergence.py.
 
-Event times are interpolated between the samples (linearly, in the relative velocity), so a
+Event times are interpolated between the samples (linearly, in the relative velocity; the
+samples need not be evenly spaced: ``study.rig.routes`` reads locally resolved runs), so a
 period is read to a fraction of a step, not to the step: a period read from the steps at
 which the phase flag flips carries an error of up to one step that does not shrink with the
 scheme's own error.
@@ -67,7 +68,8 @@ class BeltReading:
 
 
 def read_belt(history, law, *, mass_kg, normal_force_N, spring_Npm, belt_speed_mps):
-    """A ``BeltReading`` of a rig history recorded every step (``sim.rigs.friction.simulate_rig``)."""
+    """A ``BeltReading`` of a rig history (``sim.rigs.friction.simulate_rig``), its samples at
+    any times (a locally resolved run's windows are sampled at their own steps)."""
     pair = law.translation()
     edge = belt_exit_speed_mps(pair, belt_speed_mps) - belt_speed_mps  # -1.5 Δv
     t, x, u = history["t"], history["x_m"], history["v_mps"]
