@@ -54,7 +54,9 @@ window went at the run's step: gap and window are run again at level 1 from the 
 and twice the move against the window's level 1 is the gap's error (first order). A window's error (per pair) is
 its rest position's (the convergence rule's; the span of its last three levels where it did not
 converge) plus both; a run's, their sum over its windows. Each level records the extremes of
-the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error.
+the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error. The
+solver axis (``_solver``, with ``solver_twin``): the resolving level again from the window's
+start with SAP's tolerance loosened twice; its moves are recorded apart (``solver_errors``).
 
 The cost: a window of length W costs W/h·(1 + 2 + ... + 2^k) steps; the run's record
 (``Run.resolution``) gives every window, its levels, what each found, their steps and CPU.
