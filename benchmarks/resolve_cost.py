@@ -5,8 +5,9 @@ in a process of its own, alternately, ``--repeats`` times; the CPU time of each 
 processes: the job's own ``summary.json`` cpu_s, RUSAGE_SELF + RUSAGE_CHILDREN, the Dask
 workers included), the medians and their ratios; then every deciding outcome of the two
 accurate routes side by side with its error, and whether they agree within their errors
-(|local - global| <= error_local + error_global; an outcome without an error is compared by
-its difference only).
+(|local - global| <= error_local + error_global, each the step's plus the solver's; an outcome
+without an error is compared by its difference only). ``local_no_solver`` is the local route
+without its windows' solver twins (``--no_solver_axis``): what the solver axis costs.
 
 ``--reference DIR`` takes the global route's outcomes (and its CPU time) from a main job run
 earlier (its outcomes.csv and summary.json), instead of running it: the global route costs
@@ -27,6 +28,7 @@ from drake_car.commands import cli
 from drake_car.study.paper.outcomes import DRIVES, read_outcomes
 
 ROUTES = {"no_verify": ["--no_verify"], "local": ["--refine", "local"],
+          "local_no_solver": ["--refine", "local", "--no_solver_axis"],
           "global": ["--refine", "global"]}
 
 
@@ -40,18 +42,26 @@ def run_job(route, out, extra):
     return summary["cpu_s"], time.perf_counter() - began
 
 
+def budget(row):
+    """An outcome's whole error: the step's plus the solver's (None without a step error)."""
+    if row["error"] is None or math.isnan(row["error"]):
+        return None
+    solver = row.get("solver_error")
+    return row["error"] + (0.0 if solver is None or math.isnan(solver) else solver)
+
+
 def agreement(local, reference):
-    """Rows (subject, outcome, local value, local error, global value, global error, diff,
-    agree) of the deciding outcomes both routes have."""
+    """Rows (subject, outcome, local value, its whole error, global value, its whole error,
+    diff, agree) of the deciding outcomes both routes have (``budget``)."""
     rows = []
     for key in sorted(set(local) & set(reference)):
         if key[1] not in DRIVES:
             continue
         a, b = local[key], reference[key]
         diff = abs(a["value"] - b["value"])
-        errors = [a["error"], b["error"]]
+        errors = [budget(a), budget(b)]
         agree = (diff <= sum(errors) * (1 + 1e-9) if None not in errors else None)
-        rows.append((*key, a["value"], a["error"], b["value"], b["error"], diff, agree,
+        rows.append((*key, a["value"], errors[0], b["value"], errors[1], diff, agree,
                      a["unit"]))
     return rows
 
@@ -65,7 +75,7 @@ def main():
                         "instead of running the global route")
     args = p.parse_args()
     extra = ["--scene_text", args.scene_text] if args.scene_text else []
-    routes = ["no_verify", "local"] + ([] if args.reference else ["global"])
+    routes = ["no_verify", "local", "local_no_solver"] + ([] if args.reference else ["global"])
     args.out.mkdir(parents=True, exist_ok=True)
     cpu = {r: [] for r in routes}
     for k in range(args.repeats):

@@ -6,7 +6,7 @@ import types
 import pytest
 
 from drake_car.sim.window import Outcome, judge
-from drake_car.study.paper.local_route import peak_error
+from drake_car.study.paper.local_route import local_rows, peak_error
 
 TOLERANCE = {0: 2e-5}  # the default ResolveEvents.position_tolerance_m
 
@@ -74,3 +74,41 @@ def test_a_peak_inside_a_window_takes_its_levels_convergence_and_between_windows
     run.history["d_left_m"] = [0.0, 1e-3, 1e-3, 3e-3]
     error, converged = peak_error(run, "peak_dd_m", 1e-4)
     assert error == pytest.approx(3e-6) and converged is True
+
+
+def _rows_of(solver_twin, solver_errors):
+    """``local_rows`` of one run's right rod at place b (dd_b) and of its Δd peak, its windows'
+    step errors 3 and 4 µm, their solver errors ``solver_errors`` (µm)."""
+    windows = []
+    for (start, end), step, solver in zip([(0.2, 0.8), (1.5, 2.5)], (3e-6, 4e-6),
+                                          solver_errors):
+        level = {"extrema": {"d_right_m": [0.0, 1e-3], "d_left_m": [0.0, 2e-3]}, "counts": {}}
+        windows.append({
+            "start_s": start, "end_s": end, "resolved": True, "step_s": 2.5e-4,
+            "levels": [level] * 3, "inherited_errors": {}, "gap_errors": {},
+            "position_errors": {"left_translation": step, "right_translation": step},
+            "solver_errors": {"left_translation": solver * 1e-6,
+                              "right_translation": solver * 1e-6},
+            "solver_extrema": {"d_right_m": [0.0, 1e-3], "d_left_m": [0.0, 2e-3]}})
+    run = _run([0.0] * 4, [0.0] * 4, windows)
+    run.resolution["settings"] = {"solver_twin": solver_twin}
+    run.scene.time_step_s = 1e-3
+    run.cpu_s = 1.0
+    timeline = types.SimpleNamespace(boundaries=lambda: (0.2, 0.4, 3.0))
+    values = {("x", "dd_right_b_m"): (1e-3, "m"), ("x", "peak_dd_m"): (2e-3, "m")}
+    return local_rows(values, {"x": run}, timeline)
+
+
+def test_a_local_outcome_carries_its_windows_solver_errors_and_names_the_larger_axis():
+    rows = _rows_of(True, [1.0, 2.0])
+    row = rows[("x", "dd_right_b_m")]
+    assert row["error"] == pytest.approx(7e-6) and row["solver_error"] == pytest.approx(3e-6)
+    assert row["limited_by"] == "step"
+    row = _rows_of(True, [5.0, 6.0])[("x", "dd_right_b_m")]
+    assert row["solver_error"] == pytest.approx(11e-6) and row["limited_by"] == "solver"
+    # The left rod's peak (2 mm at 1 s, between windows: a rest position) carries the solver
+    # errors of the windows before it, as its step error does.
+    peak = rows[("x", "peak_dd_m")]
+    assert peak["error"] == pytest.approx(3e-6) and peak["solver_error"] == pytest.approx(1e-6)
+    # Without the twins (--no_solver_axis) no solver error is claimed.
+    assert _rows_of(False, [0.0, 0.0])[("x", "dd_right_b_m")]["solver_error"] is None

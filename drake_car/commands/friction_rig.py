@@ -57,9 +57,10 @@ def main(argv=None):
                         "\"{scheme: reference, law: {mu_s: 0.4, mu_d: 0.3}}\"")
     p.add_argument("--resolve_events", default=None,
                    help="resolve the block's slips locally (sim.resolve): a scene's "
-                        "simulator.resolve_events section in YAML, e.g. \"{}\" or "
-                        "\"{position_tolerance_m: 5e-6}\"; rig.json's run.resolution says what "
-                        "it did (default: the whole run at its step)")
+                        "simulator.resolve_events section in YAML, without the solver "
+                        "twin (the rig has no SAP ballast), e.g. \"{solver_twin: false}\" or "
+                        "\"{solver_twin: false, position_tolerance_m: 5e-6}\"; rig.json's "
+                        "run.resolution says what it did (default: the whole run at its step)")
     args = p.parse_args(argv)
     cli.check_out(args)
     friction = load_section(Friction, "friction", args.friction, f"--friction {args.friction!r}")

@@ -99,7 +99,8 @@ def main(argv=None):
     p.add_argument("--no_html", action="store_true", help="no Meshcat replay")
     p.add_argument("--no_solver_axis", action="store_true",
                    help="no solver twins: the error budget without SAP's tolerance (saves a "
-                        "run of each run at its finest step)")
+                        "run of each run at its finest step, or of each window's finest "
+                        "level on the local route)")
     p.add_argument("--no_paper_drive", action="store_true",
                    help="skip the comparison with the paper's own drive (both front wheels' "
                         "rotation prescribed: a locked front axle)")

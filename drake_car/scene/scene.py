@@ -225,7 +225,9 @@ class ResolveEvents:
     ``finest_step_s``, and goes on at its own step from the finest window's end. A window starts
     ``lead_s`` before its event, and before every slip of the pairs that ended within
     ``lookback_s`` before it (they set the loads it is decided by); it ends once every pair has
-    been static, short of its full creep, for ``hold_s``."""
+    been static, short of its full creep, for ``hold_s``. ``solver_twin``: the error budget's
+    solver axis, each window's resolving level run again with SAP's tolerance loosened twice
+    (``simulator.sap_tolerance_factor``)."""
 
     pairs: str = "translation"
     events: str = "all"
@@ -235,6 +237,7 @@ class ResolveEvents:
     lookback_s: float = 0.5
     lead_s: float = 0.05
     hold_s: float = 0.05
+    solver_twin: bool = True
 
     def check(self):
         one_of(self, "pairs", ("translation", "all"))

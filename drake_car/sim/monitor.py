@@ -93,10 +93,19 @@ class Monitor:
         self._road = road
         self._airborne_since = None
         self._energy = None  # [E at the start, actuator work so far, last power, last time]
+        self._ballast = None  # (velocity index, mass) of the SAP ballast, if the plant has one
         if road is not None:
             self._actuation = plant.MakeActuationMatrix()
-            self._slack_J = ENERGY_SLACK_M * 9.81 * plant.CalcTotalMass(
-                plant.CreateDefaultContext())
+            mass = plant.CalcTotalMass(plant.CreateDefaultContext())
+            if plant.HasModelInstanceNamed("sap_ballast"):
+                # Not the car's energy: a decoupled body its actuator drives (its work and its
+                # kinetic energy both left out; ``systems.sap_ballast``).
+                index = plant.GetJointByName("sap_ballast").velocity_start()
+                ballast_kg = plant.GetBodyByName("sap_ballast").default_mass()
+                self._ballast = (index, ballast_kg)
+                self._actuation[index, :] = 0.0
+                mass -= ballast_kg
+            self._slack_J = ENERGY_SLACK_M * 9.81 * mass
         self._logger = state_logger
         self._nq = plant.num_positions()
         self._nq_instance = plant.num_positions(instance) if instance is not None else 0
@@ -191,6 +200,9 @@ class Monitor:
         deflection = loads[4:8]
         energy = (plant.EvalKineticEnergy(pc) + plant.EvalPotentialEnergy(pc)
                   + 0.5 * road.radial_stiffness_Npm * float(deflection.dot(deflection)))
+        if self._ballast is not None:
+            index, ballast_kg = self._ballast
+            energy -= 0.5 * ballast_kg * x[self._nq + index] ** 2
         u = plant.get_net_actuation_output_port().Eval(pc)
         power = float(np.abs(x[self._nq:] * (self._actuation @ u)).sum())
         if road.wheels:

@@ -54,7 +54,9 @@ window went at the run's step: gap and window are run again at level 1 from the 
 and twice the move against the window's level 1 is the gap's error (first order). A window's error (per pair) is
 its rest position's (the convergence rule's; the span of its last three levels where it did not
 converge) plus both; a run's, their sum over its windows. Each level records the extremes of
-the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error.
+the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error. The
+solver axis (``_solver``, with ``solver_twin``): the resolving level again from the window's
+start with SAP's tolerance loosened twice; its moves are recorded apart (``solver_errors``).
 
 The cost: a window of length W costs W/h·(1 + 2 + ... + 2^k) steps; the run's record
 (``Run.resolution``) gives every window, its levels, what each found, their steps and CPU.
@@ -78,8 +80,9 @@ class Resolver:
 
     def __init__(self, runner, *, settings, step_s, make_level, selects):
         """``settings``: a ``scene.scene.ResolveEvents``; ``step_s``: the run's step;
-        ``make_level(step_s)``: a runner of the same simulation at another step (its events
-        read after each chunk, as ``runner``'s are: ``events``, ``event_count``);
+        ``make_level(step_s, solver_factor=1.0)``: a runner of the same simulation at another
+        step (its events read after each chunk, as ``runner``'s are: ``events``,
+        ``event_count``), SAP's tolerance loosened by ``solver_factor`` (the solver twin);
         ``selects(name)``: whether a friction pair (by name) is resolved (with
         ``settings.pairs``)."""
         self.runner = runner
@@ -97,6 +100,7 @@ class Resolver:
         self.dv = friction.threshold_velocities()
         self.dmax = friction.maximum_creeps()
         self.levels = {}  # level -> Runner of the scene at that step (built when first needed)
+        self.solver_levels = {}  # level -> its Runner with SAP's tolerance loosened twice
         self.checkpoints = []
         self.windows = []  # the record of each window
         self.spliced = []  # (start, end, history) of each window's resolving level
@@ -216,12 +220,14 @@ class Resolver:
         for i in errors:
             errors[i] += inherited.get(i, 0.0) + gap.get(i, 0.0)
         self._hand_back(checkpoint, chosen)
+        solver, solver_extrema = self._solver(chosen, checkpoint, end_s)
         self.after_last = Checkpoint(chosen.end_s, state_values(self.runner.built,
                                                                  self.runner.root),
                                      self.runner.monitor.snapshot(), 0)
         self.windows.append(window_record(
             self.names, checkpoint, chosen, trigger, outcomes, resolved=resolved, errors=errors,
-            inherited=inherited, gap=gap, merged=merged,
+            inherited=inherited, gap=gap, merged=merged, solver=solver,
+            solver_extrema=solver_extrema,
             cpu_s=time.process_time() - began_cpu + merged["cpu_s"]))
 
     def _levels(self, checkpoint, trigger, end_s):
@@ -304,12 +310,26 @@ class Resolver:
         # their difference.
         return {i: 2.0 * e for i, e in self._twin(outcomes[1], start, end_s).items()}
 
-    def _twin(self, level, start, end_s):
+    def _solver(self, chosen, checkpoint, end_s):
+        """The solver axis: ({pair: how far its rest position moves}, {channel: the twin's
+        extremes}) when the resolving level is run again from the window's start with SAP's
+        tolerance loosened twice (``systems.sap_ballast``; to first order in the tolerance,
+        the solver's share of the error, as ``sweep.refine``'s twin of a whole run); empty
+        without ``solver_twin``."""
+        if not self.settings.solver_twin:
+            return {}, {}
+        if chosen.level not in self.solver_levels:
+            self.solver_levels[chosen.level] = self._make_level(chosen.step_s, solver_factor=2.0)
+        runner = self.solver_levels[chosen.level]
+        moved = self._twin(chosen, checkpoint, end_s, runner)
+        return moved, extrema(runner, checkpoint.time_s)
+
+    def _twin(self, level, start, end_s, runner=None):
         """{pair: how far its rest position at ``level``'s end moves} when ``level`` (an
-        outcome) is run again from ``start`` (a Checkpoint) in its own Diagram; the twin's
-        steps and CPU are counted to it."""
+        outcome) is run again from ``start`` (a Checkpoint) in its own Diagram (``runner``;
+        default: its level's); the twin's steps and CPU are counted to it."""
         twin = Outcome(level.level, level.step_s, start.time_s, {}, {}, {}, [])
-        runner = self._level_runner(level.level)
+        runner = runner or self._level_runner(level.level)
         start_level(runner, start)
         self._advance(runner, twin, end_s, until_quiet=False, to_s=level.end_s)
         level.cpu_s += twin.cpu_s

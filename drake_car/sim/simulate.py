@@ -172,12 +172,14 @@ class SceneRunner(SlipRunner):
                    resolution=self.resolution())
 
 
-def level_runner(scene, branchable, step_s):
-    """A runner of ``scene`` at ``step_s``, without visualisation or resolution: a window's level
-    (``sim.resolve``)."""
+def level_runner(scene, branchable, step_s, solver_factor=1.0):
+    """A runner of ``scene`` at ``step_s``, SAP's tolerance loosened by ``solver_factor``,
+    without visualisation or resolution: a window's level (``sim.resolve``)."""
     level = dataclasses.replace(
         at_time_step(scene, step_s), visualization=NoVisualization(),
-        simulator=dataclasses.replace(scene.simulator, resolve_events=None))
+        simulator=dataclasses.replace(
+            scene.simulator, resolve_events=None,
+            sap_tolerance_factor=scene.simulator.sap_tolerance_factor * solver_factor))
     return SceneRunner(level, branchable=branchable)
 
 

@@ -42,11 +42,14 @@ NEWTON_ITERATIONS = 2
 @dataclasses.dataclass
 class StateValues:
     """A Diagram's state as values: the time (s), system name -> its discrete state groups,
-    and the step (s) of the Diagram they were taken from."""
+    the step (s) of the Diagram they were taken from, and its plant's state names (positions,
+    then velocities: a Diagram whose plant has a body more, the SAP ballast, takes them by
+    name)."""
 
     time_s: float
     groups: dict
     step_s: float
+    plant_names: tuple = ()
 
 
 def state_values(built, root) -> StateValues:
@@ -58,7 +61,9 @@ def state_values(built, root) -> StateValues:
         if count:
             groups[system.get_name()] = [context.get_discrete_state(i).get_value().copy()
                                          for i in range(count)]
-    return StateValues(root.get_time(), groups, built.time_step_s)
+    plant = built.plant
+    return StateValues(root.get_time(), groups, built.time_step_s,
+                       tuple(plant.GetPositionNames()) + tuple(plant.GetVelocityNames()))
 
 
 def set_state(built, simulator, values: StateValues):
@@ -74,6 +79,8 @@ def set_state(built, simulator, values: StateValues):
         if groups is None:
             continue
         context = system.GetMyMutableContextFromRoot(root)
+        if system is built.plant:
+            groups = _plant_groups(built.plant, context, groups, values.plant_names)
         if context.num_discrete_state_groups() != len(groups):
             raise ValueError(f"set_state: system {system.get_name()} has "
                              f"{context.num_discrete_state_groups()} discrete state groups, "
@@ -83,10 +90,46 @@ def set_state(built, simulator, values: StateValues):
     ratio = built.time_step_s / values.step_s
     if ratio != 1.0 and built.plant.num_constraints():  # the car's loop closures
         scale_constraint_violation(built, root, ratio ** 2)
+    _follow_ballast(built, root)
     for system in built.diagram.GetSystems():
         if isinstance(system, (GainSchedule, StrutFriction)):
             system.ForcedPublish(system.GetMyContextFromRoot(root))
     simulator.Initialize(InitializeParams(suppress_initialization_events=True))
+
+
+def _plant_groups(plant, context, groups, names):
+    """The plant's state ``groups`` (from a plant with state ``names``) as this plant takes
+    them: as they are where the names agree; else by name, this plant's other entries (the
+    SAP ballast's joint: ``systems.sap_ballast``) as they are in ``context``."""
+    mine = tuple(plant.GetPositionNames()) + tuple(plant.GetVelocityNames())
+    if not names or names == mine:
+        return groups
+    missing = sorted(set(names) - set(mine))
+    if missing or len(groups) != 1:
+        raise ValueError(f"set_state: the plant has no state entries {missing[:3]}; a state "
+                         "moves only between Diagrams of one car")
+    value = context.get_discrete_state(0).get_value().copy()
+    where = {name: k for k, name in enumerate(mine)}
+    for k, name in enumerate(names):
+        value[where[name]] = groups[0][k]
+    return [value]
+
+
+def _follow_ballast(built, root):
+    """The SAP ballast's velocity (if the Diagram has one) set to its target from the car's
+    state: its PD actuator holds it there (``systems.sap_ballast``), so the run continues as
+    if it had always been loosened, without a first step spent catching up."""
+    diagram = built.diagram
+    if not diagram.HasSubsystemNamed("sap_ballast_target"):
+        return
+    target = diagram.GetSubsystemByName("sap_ballast_target")
+    velocity = target.get_output_port().Eval(target.GetMyContextFromRoot(root))[1]
+    plant = built.plant
+    context = plant.GetMyMutableContextFromRoot(root)
+    joint = plant.GetJointByName("sap_ballast")
+    v = plant.GetVelocities(context)
+    v[joint.velocity_start()] = velocity
+    plant.SetVelocities(context, v)
 
 
 def constraint_violation(built, plant_context):

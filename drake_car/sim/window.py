@@ -154,7 +154,7 @@ def spliced_history(history, spliced):
 
 
 def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, errors, inherited,
-                  gap, merged, cpu_s):
+                  gap, merged, cpu_s, solver=None, solver_extrema=None):
     """A window's record (JSON-ready; ``sim.resolve``): ``names`` the friction's pair names,
     ``chosen`` the level it hands back, the errors per pair index."""
     def by_name(values):
@@ -166,6 +166,8 @@ def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, err
         "resolved": resolved, "step_s": chosen.step_s,
         "position_errors": by_name(errors), "inherited_errors": by_name(inherited),
         "gap_errors": by_name(gap), "merged": merged,
+        # The solver axis (``Resolver._solver``): not part of position_errors.
+        "solver_errors": by_name(solver or {}), "solver_extrema": solver_extrema or {},
         "levels": [{"step_s": o.step_s, "steps": o.steps, "cpu_s": o.cpu_s,
                     "counts": {names[i]: list(c) for i, c in o.counts.items()},
                     "times": by_name(o.times), "positions": by_name(o.positions),
@@ -181,15 +183,17 @@ def span(values):
 
 def record(settings, windows):
     """What a run's resolution did and cost (JSON-ready): its ``windows``' records."""
-    errors = {}  # a rest position carries every window's error before it: their sum
+    errors, solver = {}, {}  # a rest position carries every window's error before it: the sum
     for w in windows:
         for pair, error in w["position_errors"].items():
             errors[pair] = errors.get(pair, 0.0) + error
+        for pair, error in w.get("solver_errors", {}).items():
+            solver[pair] = solver.get(pair, 0.0) + error
     return {"settings": dataclasses.asdict(settings), "windows": windows,
             "window_count": len(windows),
             "resolved": sum(w["resolved"] for w in windows),
             "finest_step_s": min((w["step_s"] for w in windows), default=None),
-            "position_errors": errors,
+            "position_errors": errors, "solver_errors": solver,
             "window_steps": sum(sum(lv["steps"] for lv in w["levels"]) + w["merged"]["steps"]
                                 for w in windows),
             "cpu_s": sum(w["cpu_s"] for w in windows)}

@@ -303,6 +303,10 @@ def run_rig(options: RigOptions, params: StrutFrictionParameters | None = None, 
         raise ParameterError("duration_s", duration_s, "must lie in (0, 600] s")
     if resolve is not None:
         resolve.check()
+        if resolve.solver_twin:
+            raise ParameterError("solver_twin", True,
+                                 "must be false on the friction rig (it has no SAP ballast to "
+                                 "loosen its solver's tolerance with)")
         if resolve.finest_step_s > options.time_step_s / 2:
             raise ParameterError("finest_step_s", resolve.finest_step_s,
                                  f"must be <= half the rig's step {options.time_step_s:g} s")

@@ -51,9 +51,10 @@ def accurate_runs(scenes, roles, timeline, simulate, *, route, extra, halve, fin
     runs' events and refines the others globally, "global" refines every run
     (``sweep.refine``, down to ``finest_step_s`` or ``budget_s``). ``extra``: scenes run in
     the first round too, at their step; ``simulate``: a round's scenes to Runs;
-    ``solver_twin``: the globally refined runs' solver axis (``sweep.refine``; the locally
-    resolved runs have none)."""
-    resolved = resolved_scenes(scenes, finest_step_s) if route == "local" else scenes
+    ``solver_twin``: the solver axis (``sweep.refine``'s twin of a globally refined run; a
+    locally resolved run's windows run theirs when it is given: ``sim.resolve``)."""
+    resolved = (resolved_scenes(scenes, finest_step_s, solver_twin=solver_twin is not None)
+                if route == "local" else scenes)
     local = [n for n in scenes if resolved[n] is not scenes[n]]
     refined = refine({n: s for n, s in scenes.items() if n not in local},
                      outcomes_of_runs(roles, timeline), tolerances(), simulate,
@@ -89,21 +90,26 @@ def finest_run(levels: dict, name):
     return finest
 
 
-def resolved_scenes(scenes: dict, finest_step_s=ResolveEvents.finest_step_s):
+def resolved_scenes(scenes: dict, finest_step_s=ResolveEvents.finest_step_s,
+                    solver_twin=True):
     """name -> scene, those with dry friction resolving every slip of their struts
-    (``ResolveEvents`` down to ``finest_step_s``); the others as they are."""
+    (``ResolveEvents`` down to ``finest_step_s``, each window's solver twin with
+    ``solver_twin``); the others as they are."""
+    settings = ResolveEvents(finest_step_s=finest_step_s, solver_twin=solver_twin)
     return {name: dataclasses.replace(s, simulator=dataclasses.replace(
-        s.simulator, resolve_events=ResolveEvents(finest_step_s=finest_step_s)))
-        if _dry(s) else s for name, s in scenes.items()}
+        s.simulator, resolve_events=settings)) if _dry(s) else s
+        for name, s in scenes.items()}
 
 
 def _dry(scene):
     return scene.friction is not None and scene.friction.law.mu_s > 0
 
 
-def errors_between(run, start_s=-math.inf, end_s=math.inf):
+def errors_between(run, start_s=-math.inf, end_s=math.inf, axis="position_errors"):
     """side -> the error of the strut's rest positions (m) from ``run``'s windows that reach
-    into (``start_s``, ``end_s``): their sum; None when the run resolved no window."""
+    into (``start_s``, ``end_s``): their sum; None when the run resolved no window.
+    ``axis``: "position_errors" (the step's: convergence, inheritance, gaps) or
+    "solver_errors" (the windows' solver twins)."""
     resolution = run.resolution or {}
     if not resolution.get("window_count"):
         return None
@@ -111,7 +117,7 @@ def errors_between(run, start_s=-math.inf, end_s=math.inf):
     for w in resolution["windows"]:
         if w["end_s"] > start_s and w["start_s"] < end_s:
             for side in SIDES:
-                out[side] += float(w["position_errors"].get(f"{side}_translation", 0.0))
+                out[side] += float(w.get(axis, {}).get(f"{side}_translation", 0.0))
     return out
 
 
@@ -121,12 +127,9 @@ PEAKS = {"rotation_rad": ("rot_{}_rad", False), "peak_dd_m": ("d_{}_m", True),
          **{f"mu1_peak_{s}": (f"friction_{s}_translation_mu1", False) for s in SIDES}}
 
 
-def peak_error(run, outcome, tolerance):
-    """(error, converged) of peak ``outcome`` of a locally resolved ``run``: where the run
-    reaches it inside a window, the convergence of that window's levels' peaks
-    (``sim.convergence.classify``, each level's extremes of the channel in the window); a rod's
-    position outside every window is a rest position (every strut static there): its windows'
-    error. None (not estimated) for a rotation or μ1 peak reached between windows."""
+def _peak_at(run, outcome):
+    """Where ``run`` reaches peak ``outcome``: (its channel's name pattern, the side, the time,
+    the value it is taken from, its scale, the windows holding that time)."""
     channel, from_start = PEAKS[outcome]
     history = run.history
     sides = [outcome.rsplit("_", 1)[1]] if outcome.startswith("mu1_") else SIDES
@@ -141,6 +144,16 @@ def peak_error(run, outcome, tolerance):
     _, side, t, ref = best
     windows = [w for w in (run.resolution or {}).get("windows") or []
                if w["start_s"] < t <= w["end_s"] + 1e-9]
+    return channel, side, t, ref, scale, windows
+
+
+def peak_error(run, outcome, tolerance):
+    """(error, converged) of peak ``outcome`` of a locally resolved ``run``: where the run
+    reaches it inside a window, the convergence of that window's levels' peaks
+    (``sim.convergence.classify``, each level's extremes of the channel in the window); a rod's
+    position outside every window is a rest position (every strut static there): its windows'
+    error. None (not estimated) for a rotation or μ1 peak reached between windows."""
+    channel, side, t, ref, scale, windows = _peak_at(run, outcome)
     before = (errors_between(run, end_s=t) or {}).get(side)
     if not windows:
         if outcome == "peak_dd_m" and before is not None:  # a rest position
@@ -160,6 +173,25 @@ def peak_error(run, outcome, tolerance):
     return error, found["converged"] and w["resolved"]
 
 
+def peak_solver_error(run, outcome):
+    """The solver axis of peak ``outcome`` (see ``peak_error``): in a window, how far the
+    window's solver twin moved the channel's extreme (plus, for Δd, the solver errors of the
+    windows before it); a rest position between windows: the windows' solver errors before
+    it; None where ``peak_error`` gives none or no window ran a twin."""
+    channel, side, t, ref, scale, windows = _peak_at(run, outcome)
+    before = (errors_between(run, end_s=t, axis="solver_errors") or {}).get(side)
+    if not windows:
+        return before if outcome == "peak_dd_m" else None
+    w, name = windows[0], channel.format(side)
+    twin, chosen = w.get("solver_extrema", {}).get(name), w["levels"][-1]["extrema"].get(name)
+    if twin is None or chosen is None:
+        return None
+    error = abs(max(abs(a - ref) for a in twin) - max(abs(b - ref) for b in chosen)) / scale
+    if outcome == "peak_dd_m" and before is not None:
+        error += before - w["solver_errors"].get(f"{side}_translation", 0.0)
+    return error
+
+
 def local_rows(values: dict, runs: dict, timeline):
     """Outcome rows (as ``sweep.refine`` gives them) of ``values`` ({(subject, outcome):
     (value, unit)}, ``outcomes.study_outcomes`` of locally resolved ``runs``): each with its
@@ -169,30 +201,15 @@ def local_rows(values: dict, runs: dict, timeline):
     rows = {}
     for (subject, outcome), (value, unit) in values.items():
         names = subject.split("|")
-        before_a = [errors_between(runs[n], end_s=t3) for n in names]
-        at_b = [errors_between(runs[n]) for n in names]
-        error = None
-        if None not in at_b:
-            side = outcome.split("_")[1] if outcome.startswith(("dd_", "shift_")) else None
-            if outcome.startswith("dd_"):
-                error = (before_a if outcome.endswith("_a_m") else at_b)[0][side]
-            elif outcome.startswith("shift_"):
-                error = before_a[0][side] + at_b[0][side]
-            elif outcome in ("lr_change_m", "split_change"):
-                error = sum(before_a[0].values()) + sum(at_b[0].values())
-                if outcome == "split_change":
-                    lr = values.get((subject, "lr_change_m"), (0.0, ""))[0]
-                    error = abs(value / lr) * error if lr else None
-            elif outcome == "return_m":
-                during = errors_between(runs[names[0]], t2 - RETURN_BLEND_S, t3)
-                static = 2.0 * runs[names[0]].scene.friction.law.dmax_translation_m
-                error = 2.0 * max(during.values()) if any(during.values()) else static
-            elif outcome == "mirror_residual_m":
-                error = sum(max(e.values()) for e in at_b)
+        error = _carried(outcome, subject, value, values, runs, names, (t2, t3),
+                         "position_errors")
+        solver = _carried(outcome, subject, value, values, runs, names, (t2, t3),
+                          "solver_errors")
         tolerance = TOLERANCES[outcome][0]
         peak_converged = None
         if outcome in PEAKS:
             error, peak_converged = peak_error(runs[names[0]], outcome, tolerance)
+            solver = peak_solver_error(runs[names[0]], outcome)
         elif outcome.startswith("mu1_reaches_") and value == 0:
             # A count of 0 is exact at every level while its peak stays clear of 1: decided
             # where the peak's margin exceeds the peak's error (``measures.claim_measures``).
@@ -201,6 +218,7 @@ def local_rows(values: dict, runs: dict, timeline):
                 peak_err, _ = peak_error(runs[names[0]], peak, TOLERANCES[peak][0])
                 error = None if peak_err is None else 0.0
                 peak_converged = None if peak_err is None else True
+                solver = None if peak_err is None else 0.0
         all_resolved = all(w["resolved"] for n in names
                            for w in (runs[n].resolution or {}).get("windows") or [])
         rows[(subject, outcome)] = {
@@ -210,8 +228,49 @@ def local_rows(values: dict, runs: dict, timeline):
                 peak_converged if peak_converged is not None
                 else error <= tolerance and all_resolved),
             "observed_order": None, "step_s": _step(runs[names[0]]), "route": "local",
+            "solver_error": solver if _twinned(runs[n] for n in names) else None,
+            "limited_by": ("solver" if error is not None and solver is not None
+                           and solver > error else "step"),
             **resolution_fields(runs[n] for n in names)}
     return rows
+
+
+def _carried(outcome, subject, value, values, runs, names, boundaries, axis):
+    """The windows' errors on ``axis`` (``errors_between``) carried to a non-peak outcome (see
+    the module); None where the outcome takes none."""
+    t2, t3 = boundaries
+    before_a = [errors_between(runs[n], end_s=t3, axis=axis) for n in names]
+    at_b = [errors_between(runs[n], axis=axis) for n in names]
+    if None in at_b:
+        return None
+    side = outcome.split("_")[1] if outcome.startswith(("dd_", "shift_")) else None
+    if outcome.startswith("dd_"):
+        return (before_a if outcome.endswith("_a_m") else at_b)[0][side]
+    if outcome.startswith("shift_"):
+        return before_a[0][side] + at_b[0][side]
+    if outcome in ("lr_change_m", "split_change"):
+        error = sum(before_a[0].values()) + sum(at_b[0].values())
+        if outcome == "split_change":
+            lr = values.get((subject, "lr_change_m"), (0.0, ""))[0]
+            return abs(value / lr) * error if lr else None
+        return error
+    if outcome == "return_m":
+        during = errors_between(runs[names[0]], t2 - RETURN_BLEND_S, t3, axis=axis)
+        if any(during.values()):
+            return 2.0 * max(during.values())
+        # No window in the return: the creep band it can move in while static (the step's
+        # axis); the solver's none.
+        return (2.0 * runs[names[0]].scene.friction.law.dmax_translation_m
+                if axis == "position_errors" else 0.0)
+    if outcome == "mirror_residual_m":
+        return sum(max(e.values()) for e in at_b)
+    return None
+
+
+def _twinned(runs):
+    """Whether every run's windows ran their solver twin."""
+    return all(((r.resolution or {}).get("settings") or {}).get("solver_twin", False)
+               for r in runs)
 
 
 def _step(run):
@@ -261,7 +320,9 @@ def error_method(refinement):
         "tolerance and shrink as a first-order scheme's do; the error is then the last "
         "difference, plus the solver's: each such run's twin at its finest step with SAP's "
         "tolerance loosened twice moves it by that much (\"solver\" where that is the larger "
-        "part)" + ("; the locally resolved runs have no solver twin" if local else "") + ". A "
+        "part)" + ("; on the local route each window's resolving level is run again so, its "
+                  "rest positions' moves the windows' solver error, carried to each outcome "
+                  "as the step's is" if local else "") + ". A "
         "maximum over runs is taken over each run's own value, its error the largest of "
         "theirs: a run is only ever compared with itself. A verdict is decided only where its "
         "margin exceeds that error (a value that did not converge: the spread of its last "

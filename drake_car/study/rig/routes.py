@@ -71,7 +71,8 @@ def case(name):
 
 def settings(law, finest_step_s=FINEST_STEP_S):
     """The local route's ``ResolveEvents``: rest positions to Δmax (see the module)."""
-    return ResolveEvents(position_tolerance_m=law.dmax_translation_m, finest_step_s=finest_step_s)
+    return ResolveEvents(position_tolerance_m=law.dmax_translation_m, finest_step_s=finest_step_s,
+                         solver_twin=False)  # the rig has no SAP ballast
 
 
 def run(name, scheme, time_step_s, resolve=None):
