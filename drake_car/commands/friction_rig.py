@@ -10,6 +10,8 @@ The rig runs on the one runner, as a car's scene does: under the divergence moni
 progress bar (not with --quiet), Ctrl-C/SIGTERM taken between the monitor's chunks; DIR/rig.json
 holds the options, the law, how the run went (wall and CPU time, steps) and its provenance. The
 explicit (reference) scheme refuses a step above its stability limit before it runs.
+--resolve_events resolves the block's slips locally, as a car's scene does (sim.resolve): the
+history's windows are sampled at their finer steps.
 
 Example (break-away under a slow ramp):
   drake-car-friction-rig --out results/rig --force_rate_Nps 1000 --duration_s 1
@@ -25,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from drake_car.commands import cli  # noqa: E402
 from drake_car.scene.load import load_section  # noqa: E402
-from drake_car.scene.scene import Friction  # noqa: E402
+from drake_car.scene.scene import Friction, ResolveEvents  # noqa: E402
 from drake_car.results.files import write_csv, write_json  # noqa: E402
 from drake_car.results.folder import output_folder  # noqa: E402
 from drake_car.results.provenance import provenance  # noqa: E402
@@ -53,9 +55,21 @@ def main(argv=None):
                    help="the friction law and scheme, as a scene's friction section in YAML "
                         "(default: the paper's μs = 0.2, μd = 0.15, fast scheme), e.g. "
                         "\"{scheme: reference, law: {mu_s: 0.4, mu_d: 0.3}}\"")
+    p.add_argument("--resolve_events", default=None,
+                   help="resolve the block's slips locally (sim.resolve): a scene's "
+                        "simulator.resolve_events section in YAML, without the solver "
+                        "twin (the rig has no SAP ballast), e.g. \"{solver_twin: false}\" or "
+                        "\"{solver_twin: false, position_tolerance_m: 5e-6}\"; rig.json's "
+                        "run.resolution says what it did (default: the whole run at its step)")
     args = p.parse_args(argv)
     cli.check_out(args)
     friction = load_section(Friction, "friction", args.friction, f"--friction {args.friction!r}")
+    resolve = (None if args.resolve_events is None else load_section(
+        ResolveEvents, "resolve_events", args.resolve_events,
+        f"--resolve_events {args.resolve_events!r}"))
+    if resolve is not None and resolve.finest_step_s > args.time_step_s / 2:
+        p.error(f"--resolve_events: finest_step_s = {resolve.finest_step_s:g} must be at most "
+                f"half of --time_step_s ({args.time_step_s:g} s)")
     if args.time_step_s > args.duration_s:
         p.error("--time_step_s must not exceed --duration_s")
     options = RigOptions(
@@ -67,7 +81,7 @@ def main(argv=None):
     options.check(friction.law)
     with output_folder(args.out) as out:
         run = run_rig(options, friction.law, duration_s=args.duration_s,
-                      progress=not args.quiet)
+                      progress=not args.quiet, resolve=resolve)
         history = run.history
         write_csv(out / "history.csv", history)
         write_json(out / "rig.json", provenance(

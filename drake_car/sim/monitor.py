@@ -82,8 +82,14 @@ class Monitor:
     """Checks ``plant``'s state in ``diagram``; counts frozen steps from ``state_logger`` (a
     VectorLogSink of one model instance's state [q; v], sampled every step), when given."""
 
-    def __init__(self, plant, diagram, *, state_logger=None, instance=None, road=None):
+    def __init__(self, plant, diagram, *, state_logger=None, instance=None, road=None,
+                 time_step_s=None):
+        """``time_step_s``: without ``state_logger``, count the steps by the time checked (a
+        plant of that step updates at its multiples: the rig's, from t = 0), as
+        ``sim.resolve`` counts a window's level's steps."""
         self._plant, self._diagram = plant, diagram
+        self._step_s = time_step_s
+        self._checked_s = 0.0  # the time of the last check (the steps counted by time)
         self._road = road
         self._airborne_since = None
         self._energy = None  # [E at the start, actuator work so far, last power, last time]
@@ -113,6 +119,11 @@ class Monitor:
         return self._logger is not None
 
     @property
+    def counts_by_time(self):
+        """Whether the monitor counts the steps by the time checked (``time_step_s``)."""
+        return self._logger is None and self._step_s is not None
+
+    @property
     def last_velocities(self):
         """The last logged step's velocities (to resume a count in a branch)."""
         return None if self._last_v is None else self._last_v.copy()
@@ -127,10 +138,10 @@ class Monitor:
         time, the last step's velocities): ``sim.resolve`` runs a window from a saved state
         and hands the state back."""
         return (None if self._energy is None else list(self._energy), self._airborne_since,
-                self.last_velocities)
+                self.last_velocities, self._checked_s)
 
     def restore(self, snapshot):
-        energy, airborne, last_v = snapshot
+        energy, airborne, last_v, self._checked_s = snapshot
         self._energy = None if energy is None else list(energy)
         self._airborne_since = airborne
         self._last_v = None if last_v is None else last_v.copy()
@@ -139,6 +150,11 @@ class Monitor:
         """Counts the frozen steps since the last check, then checks the state."""
         if self._logger is not None:
             self._count_frozen(root_context)
+        elif self._step_s is not None:
+            t, h = root_context.get_time(), self._step_s
+            # The updates at k h in [last check, t): AdvanceTo(t) leaves the one due at t.
+            self.stats.steps += (math.ceil(t / h - 1e-6) - math.ceil(self._checked_s / h - 1e-6))
+            self._checked_s = t
         plant = self._plant
         x = plant.GetPositionsAndVelocities(plant.GetMyContextFromRoot(root_context))
         v = x[self._nq:]

@@ -345,7 +345,9 @@ class Resolver:
                              {k: v[keep] for k, v in history.items()}))
         set_state(runner.built, runner.simulator, state_values(fine.built, fine.root))
         runner.root = runner.simulator.get_mutable_context()
-        runner.built.velocity_logger.FindMutableLog(runner.root).Clear()
+        velocity_logger = getattr(runner.built, "velocity_logger", None)  # the car's
+        if velocity_logger is not None:
+            velocity_logger.FindMutableLog(runner.root).Clear()
         runner.monitor.restore(fine.monitor.snapshot())
         window = len(self.windows)
         runner.events = (runner.events[:checkpoint.event_count]

@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 
-from drake_car.law.friction.events import EVENT_FIELDS, KIND_NAMES
 from drake_car.model.car import loop_closure_error, strut_overlap
 from drake_car.model.geometry import SIDES, design_axle_loads_N
 from pydrake.common.yaml import yaml_load_typed
@@ -25,8 +24,7 @@ from drake_car.sim.driver_wiring import manoeuvre_outcome
 from drake_car.sim import equilibrium_cache
 from drake_car.sim.equilibrium import Equilibrium, equilibrium_from_run, equilibrium_scene
 from drake_car.sim.lane_change_calibration import adapted
-from drake_car.sim.resolve import Resolver
-from drake_car.sim.simulation import Runner, logged_history
+from drake_car.sim.slips import SlipRunner
 from drake_car.systems.tyre import WHEELS
 
 log = logging.getLogger(__name__)
@@ -103,9 +101,10 @@ def simulate(scene: Scene, *, progress=False, meshcat=None) -> Run:
     return SceneRunner(scene, progress=progress, meshcat=meshcat).run().finish()
 
 
-class SceneRunner(Runner):
-    """The one runner (``sim.simulation.Runner``) on a scene's car: builds the scene's
-    Diagram, selects its lane-change case, starts from the scene's initial state (the static
+class SceneRunner(SlipRunner):
+    """The one runner (``sim.simulation.Runner``, with its friction's events and the local
+    resolution of its struts' slips: ``sim.slips.SlipRunner``) on a scene's car: builds the
+    scene's Diagram, selects its lane-change case, starts from the scene's initial state (the static
     equilibrium by default), shows or records Meshcat when the scene asks, and ``finish()``
     returns the Run.
     ``sim.branch`` starts one from another runner's saved context."""
@@ -136,21 +135,17 @@ class SceneRunner(Runner):
         if isinstance(visual, MeshcatReplay):
             from drake_car.sim.replay import ReplayRecorder
             recorder = ReplayRecorder(meshcat, built, visual)
+        resolve = scene.simulator.resolve_events
         super().__init__(built, end_time_s=scene.end_time_s, progress=progress,
                          context=context, recorder=recorder,
                          realtime_rate=(visual.realtime_rate if isinstance(visual, MeshcatLive)
-                                        else 0.0))
+                                        else 0.0),
+                         resolve=resolve,
+                         make_level=functools.partial(level_runner, scene,
+                                                      built.case_port is not None),
+                         selects=lambda name: name.split("_")[0] in SIDES)
         if built.case_port is not None:
             built.select_case(self.root, scene.manoeuvre.case)
-        # The friction's stick-slip events read after every chunk: (row, step, window) with row
-        # in law.friction.events.EVENT_FIELDS and window the resolution window (-1: none).
-        self.events, self.event_count, self.events_lost, self.last_rows = [], 0, 0, []
-        self.resolver = None
-        if scene.simulator.resolve_events is not None and built.friction is not None:
-            self.resolver = Resolver(
-                self, settings=scene.simulator.resolve_events, step_s=scene.time_step_s,
-                make_level=functools.partial(level_runner, scene, built.case_port is not None),
-                selects=lambda name: name.split("_")[0] in SIDES)
 
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
@@ -161,42 +156,6 @@ class SceneRunner(Runner):
             log.info("%s: %g s at %g s steps, about %.0f min of wall time", self.scene.name,
                      self.scene.end_time_s, self.scene.time_step_s, estimate / 60)
         super().start()
-
-    def checked(self):
-        """After a chunk: the monitor's checks, the replay's frame, the chunk's events."""
-        super().checked()
-        friction = self.built.friction
-        if friction is None:
-            return
-        rows, self.event_count, lost = friction.events(friction.GetMyContextFromRoot(self.root),
-                                                       self.event_count)
-        self.events_lost += lost
-        step = self.scene.time_step_s
-        self.events.extend((row, step, -1) for row in rows)
-        self.last_rows = rows
-
-    def before_chunk(self):
-        if self.resolver is not None:
-            self.resolver.before_chunk()
-
-    def after_chunk(self, end):
-        if self.resolver is not None:
-            self.resolver.after_chunk(self.last_rows, end)
-
-    def history(self):
-        """The run's columns, each resolved window's from its resolving level."""
-        logged = logged_history(self.built, self.root)
-        if self.resolver is not None:
-            logged = self.resolver.spliced_history(logged)
-        return self.built.history(logged)
-
-    def event_table(self):
-        """The run's events as columns (``event_columns``); None without friction."""
-        friction = self.built.friction
-        if friction is None:
-            return None
-        return event_columns(self.events, friction.pair_names(),
-                             friction.threshold_velocities(), self.events_lost)
 
     def finish(self) -> Run:
         result = self.result()
@@ -210,7 +169,7 @@ class SceneRunner(Runner):
                    first_frozen_sap_step_s=result.first_frozen_sap_step_s, steps=result.steps,
                    final=final, diagram_dot=result.diagram_dot, replay_html=html,
                    cpu_s=result.cpu_s, events=self.event_table(),
-                   resolution=None if self.resolver is None else self.resolver.record())
+                   resolution=self.resolution())
 
 
 def level_runner(scene, branchable, step_s, solver_factor=1.0):
@@ -222,24 +181,6 @@ def level_runner(scene, branchable, step_s, solver_factor=1.0):
             scene.simulator, resolve_events=None,
             sap_tolerance_factor=scene.simulator.sap_tolerance_factor * solver_factor))
     return SceneRunner(level, branchable=branchable)
-
-
-def event_columns(events, pair_names, dv, lost=0):
-    """(row, step, window) triples as JSON-ready columns: ``law.friction.events``'
-    EVENT_FIELDS, the pair and kind by name, ``band_steps`` (Δv over the step's velocity
-    change: how many steps of that change the static band is wide), the step that saw the
-    event, the window that resolved it (-1: none); and ``lost``, the events the bounded log
-    lost (a count, not a column)."""
-    rows = [row for row, _, _ in events]
-    table = {field: [float(row[k]) for row in rows] for k, field in enumerate(EVENT_FIELDS)}
-    table["pair"] = [pair_names[int(row[1])] for row in rows]
-    table["kind"] = [KIND_NAMES[float(row[2])] for row in rows]
-    table["band_steps"] = [float(dv[int(row[1])] / abs(row[4])) if row[4] else math.inf
-                           for row in rows]
-    table["step_s"] = [float(step) for _, step, _ in events]
-    table["window"] = [int(window) for _, _, window in events]
-    table["lost"] = int(lost)
-    return table
 
 
 def static_equilibrium(scene: Scene) -> Equilibrium:

@@ -59,14 +59,21 @@ class RunResult:
     frozen_sap_steps: int | None
     first_frozen_sap_step_s: float | None
     diagram_dot: str
+    events: dict | None = None  # the friction's stick-slip events (``sim.slips``), if kept
+    resolution: dict | None = None  # what the local resolution did (``sim.resolve``), if any
 
     def record(self):
         """What a run says about itself (JSON-ready), as a car's run does."""
         simulated = float(self.history["t"][-1]) if len(self.history["t"]) else 0.0
-        return {"wall_s": self.wall_s, "cpu_s": self.cpu_s, "simulated_s": simulated,
-                "real_time_factor": simulated / max(self.wall_s, 1e-9), "steps": self.steps,
-                "frozen_sap_steps": self.frozen_sap_steps,
-                "first_frozen_sap_step_s": self.first_frozen_sap_step_s}
+        record = {"wall_s": self.wall_s, "cpu_s": self.cpu_s, "simulated_s": simulated,
+                  "real_time_factor": simulated / max(self.wall_s, 1e-9), "steps": self.steps,
+                  "frozen_sap_steps": self.frozen_sap_steps,
+                  "first_frozen_sap_step_s": self.first_frozen_sap_step_s}
+        if self.events is not None:
+            record["events"] = self.events
+        if self.resolution is not None:
+            record["resolution"] = self.resolution
+        return record
 
 
 class Runner:
@@ -112,7 +119,7 @@ class Runner:
 
     def advance_to(self, end):
         """Runs to ``end`` in the monitor's chunks; ``before_chunk`` and ``after_chunk`` (no-ops
-        here) act between chunks (the car's runner: its stick-slip events, ``sim.resolve``)."""
+        here) act between chunks (``sim.slips``: the friction's events, ``sim.resolve``)."""
         period = self.built.monitor_period_s
         now = self.root.get_time()
         bar = progress_bar(self.built.name, self.end_time_s, now) if self.progress else None
@@ -160,9 +167,9 @@ class Runner:
         return self.built.history(logged_history(self.built, self.root))
 
     def steps(self):
-        """The plant's steps so far: counted by the monitor where it counts them (the car),
-        else the simulated time over the step."""
-        if self.monitor.counts_steps:
+        """The plant's steps so far: counted by the monitor where it counts them (the car by
+        its state logger, the friction rig by time), else the simulated time over the step."""
+        if self.monitor.counts_steps or self.monitor.counts_by_time:
             return self.monitor.stats.steps
         return int(round((self.root.get_time() - self.start_time_s) / self.built.time_step_s))
 

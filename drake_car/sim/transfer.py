@@ -62,14 +62,16 @@ def state_values(built, root) -> StateValues:
             groups[system.get_name()] = [context.get_discrete_state(i).get_value().copy()
                                          for i in range(count)]
     plant = built.plant
-    return StateValues(root.get_time(), groups, built.scene.time_step_s,
+    return StateValues(root.get_time(), groups, built.time_step_s,
                        tuple(plant.GetPositionNames()) + tuple(plant.GetVelocityNames()))
 
 
 def set_state(built, simulator, values: StateValues):
     """``values`` into ``built``'s Diagram (its simulator's root context), the constraints'
     violation set to this Diagram's step, the model values written, the simulator initialized
-    without initialization events."""
+    without initialization events. ``built``: a ``sim.simulation.Simulation`` (the car's
+    Diagram, the friction rig's); a plant without constraints (the rig's) has no violation to
+    set."""
     root = simulator.get_mutable_context()
     root.SetTime(values.time_s)
     for system in built.diagram.GetSystems():
@@ -85,8 +87,8 @@ def set_state(built, simulator, values: StateValues):
                              f"the values {len(groups)}")
         for i, value in enumerate(groups):
             context.SetDiscreteState(i, value)
-    ratio = built.scene.time_step_s / values.step_s
-    if ratio != 1.0:
+    ratio = built.time_step_s / values.step_s
+    if ratio != 1.0 and built.plant.num_constraints():  # the car's loop closures
         scale_constraint_violation(built, root, ratio ** 2)
     _follow_ballast(built, root)
     for system in built.diagram.GetSystems():

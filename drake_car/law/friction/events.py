@@ -18,7 +18,7 @@ rebuilt from the step's own targets and gains: SAP's u = clamp(u_ff - Kp(q - q_d
 (S = N, or N·r + M0/μs for rotation), and the ended phase's largest |v|/Δv.
 
 How near its threshold an event was, against what one step can change (the runner's table,
-``sim.simulate.event_columns``, gives ``band_steps`` = Δv / |v_{k+1} - v_k|):
+``sim.slips.event_columns``, gives ``band_steps`` = Δv / |v_{k+1} - v_k|):
 
 - a break-away with band_steps < 1 was thrown through the static band within one step: a load
   far above capacity, which any step breaks, within a step of time. With band_steps ≥ 1 the

@@ -32,7 +32,8 @@ from pydrake.systems.primitives import LogVectorOutput
 from drake_car.law.checks import ParameterError, finite, nonnegative, positive
 from drake_car.law.friction.frd import StrutFrictionParameters, explicit_time_step_limit_s
 from drake_car.sim.monitor import Monitor
-from drake_car.sim.simulation import Runner, RunResult, state_columns
+from drake_car.sim.simulation import RunResult, state_columns
+from drake_car.sim.slips import SlipRunner
 from drake_car.systems.friction_pairs import Strut, declare_pairs
 from drake_car.systems.sap_pacer import add_sap_pacer, connect_sap_pacer
 from drake_car.systems.strut_friction import DIAGNOSTIC_FIELDS, StrutFriction
@@ -168,7 +169,8 @@ class Rig:
         return self.options.time_step_s
 
     def monitor(self):
-        return Monitor(self.plant, self.diagram)
+        # No state logger: the steps are counted by time (a window's levels', sim.resolve).
+        return Monitor(self.plant, self.diagram, time_step_s=self.time_step_s)
 
     def history(self, logged):
         """``RIG_COLUMNS``: x_m the block's position from the spring's anchor, v_mps its
@@ -290,12 +292,40 @@ def simulate_rig(options: RigOptions, params: StrutFrictionParameters | None = N
 
 
 def run_rig(options: RigOptions, params: StrutFrictionParameters | None = None, *,
-            duration_s=1.0, record_period_s=None, progress=False) -> RunResult:
-    """The rig on the one runner (``sim.simulation.Runner``): its history (``simulate_rig``)
-    and how the run went (wall and CPU time, steps)."""
+            duration_s=1.0, record_period_s=None, progress=False, resolve=None) -> RunResult:
+    """The rig on the one runner (``sim.simulation.Runner``): its history (``simulate_rig``),
+    how the run went (wall and CPU time, steps) and its friction's stick-slip events.
+    ``resolve``: a ``scene.scene.ResolveEvents``: the rig's slips resolved locally, as a car's
+    (``sim.resolve``: each slip of the block's pair, ``pairs: all`` for a rotational rig's, run
+    in a window at halved steps, the history spliced; the windows' samples at their own steps
+    where the run records every step), the result's ``resolution`` saying what it did."""
     if not (0 < duration_s <= 600):
         raise ParameterError("duration_s", duration_s, "must lie in (0, 600] s")
+    if resolve is not None:
+        resolve.check()
+        if resolve.solver_twin:
+            raise ParameterError("solver_twin", True,
+                                 "must be false on the friction rig (it has no SAP ballast to "
+                                 "loosen its solver's tolerance with)")
+        if resolve.finest_step_s > options.time_step_s / 2:
+            raise ParameterError("finest_step_s", resolve.finest_step_s,
+                                 f"must be <= half the rig's step {options.time_step_s:g} s")
     rig = build_rig(options, params, record_period_s=record_period_s)
     period = record_period_s or options.time_step_s
     end = int(round(duration_s / period)) * period
-    return Runner(rig, end_time_s=end, progress=progress).run().result()
+    every_step = record_period_s is None or record_period_s == options.time_step_s
+
+    def level(step_s):  # a window's level: the rig at another step, without resolution
+        return RigRunner(build_rig(dataclasses.replace(options, time_step_s=step_s), params,
+                                   record_period_s=None if every_step else period),
+                         end_time_s=end)
+    runner = RigRunner(rig, end_time_s=end, progress=progress, resolve=resolve,
+                       make_level=level).run()
+    return dataclasses.replace(runner.result(), events=runner.event_table(),
+                               resolution=runner.resolution())
+
+
+class RigRunner(SlipRunner):
+    """The one runner on the rig, its friction's events kept and, with ``resolve``, its slips
+    resolved locally (``sim.slips``); every pair of the rig is selected (``resolve.pairs``
+    still picks translation only, or all)."""

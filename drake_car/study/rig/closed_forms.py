@@ -3,7 +3,8 @@ stick-slipping on a belt (its period, where its slips start, how far it lags the
 oscillator with friction (its amplitude's decay per cycle) and an incline (stick below tan⁻¹ μs,
 slide above). Used by benchmarks/friction_convergence.py and tests/test_reference_convergence.py.
 
-Event times are interpolated between the samples (linearly, in the relative velocity), so a
+Event times are interpolated between the samples (linearly, in the relative velocity; the
+samples need not be evenly spaced: ``study.rig.routes`` reads locally resolved runs), so a
 period is read to a fraction of a step, not to the step: a period read from the steps at
 which the phase flag flips carries an error of up to one step that does not shrink with the
 scheme's own error.
@@ -63,10 +64,12 @@ class BeltReading:
     slip_start_m: np.ndarray
     lag_m: np.ndarray
     law_period_s: np.ndarray
+    slip_start_s: np.ndarray = None  # when each of those slips starts
 
 
 def read_belt(history, law, *, mass_kg, normal_force_N, spring_Npm, belt_speed_mps):
-    """A ``BeltReading`` of a rig history recorded every step (``sim.rigs.friction.simulate_rig``)."""
+    """A ``BeltReading`` of a rig history (``sim.rigs.friction.simulate_rig``), its samples at
+    any times (a locally resolved run's windows are sampled at their own steps)."""
     pair = law.translation()
     edge = belt_exit_speed_mps(pair, belt_speed_mps) - belt_speed_mps  # -1.5 Δv
     t, x, u = history["t"], history["x_m"], history["v_mps"]
@@ -88,7 +91,8 @@ def read_belt(history, law, *, mass_kg, normal_force_N, spring_Npm, belt_speed_m
             mass_kg=mass_kg, spring_Npm=spring_Npm, normal_N=normal_force_N, law=pair,
             belt_speed_mps=belt_speed_mps, slip_start_m=x_start[k - 1], lag_m=lag)
             + (x_start[k] - x_start[k - 1]) / belt_speed_mps)
-    return BeltReading(np.diff(starts), x_start[1:], np.array(lags), np.array(identity))
+    return BeltReading(np.diff(starts), x_start[1:], np.array(lags), np.array(identity),
+                       starts[1:])
 
 
 def run_belt(scheme, time_step_s, *, law=BELT_LAW, case=None, duration_s=BELT_DURATION_S):
@@ -119,6 +123,7 @@ class OscillatorReading:
     decay_per_cycle_m: np.ndarray
     coulomb_m: float
     bound_m: float
+    turn_times_s: np.ndarray = None
 
 
 def run_oscillator(scheme, time_step_s, *, law=OSCILLATOR_LAW, case=None,
@@ -126,6 +131,13 @@ def run_oscillator(scheme, time_step_s, *, law=OSCILLATOR_LAW, case=None,
     case = dict(OSCILLATOR if case is None else case)
     history = simulate_rig(RigOptions(time_step_s=time_step_s, scheme=scheme, **case), law,
                            duration_s=duration_s, record_period_s=time_step_s)
+    return read_oscillator(history, law, case)
+
+
+def read_oscillator(history, law=OSCILLATOR_LAW, case=None):
+    """An ``OscillatorReading`` of a rig history (samples at any times: a locally resolved
+    run's windows are sampled at their own steps)."""
+    case = dict(OSCILLATOR if case is None else case)
     t, x, v = history["t"], history["x_m"], history["v_mps"]
     turns = []
     for direction in (-1, +1):
@@ -144,17 +156,28 @@ def run_oscillator(scheme, time_step_s, *, law=OSCILLATOR_LAW, case=None,
                                     normal_N=case["normal_force_N"], law=pair,
                                     spring_force_N=case["spring_Npm"] * last)
     return OscillatorReading(positions, decay, oscillator_decay_per_cycle_m(
-        spring_Npm=case["spring_Npm"], normal_N=case["normal_force_N"], mu_d=pair.mu_d), bound)
+        spring_Npm=case["spring_Npm"], normal_N=case["normal_force_N"], mu_d=pair.mu_d), bound,
+        np.array([time for time, _ in turns]))
+
+
+def incline_options(angle_deg, time_step_s, scheme, mass_kg=30.0):
+    """The incline case's rig: N = m g cos θ."""
+    theta = math.radians(angle_deg)
+    return RigOptions(mass_kg=mass_kg, normal_force_N=mass_kg * 9.81 * math.cos(theta),
+                      incline_deg=angle_deg, time_step_s=time_step_s, scheme=scheme)
 
 
 def run_incline(scheme, time_step_s, angle_deg, *, law=INCLINE_LAW, mass_kg=30.0,
                 duration_s=INCLINE_DURATION_S):
     """(final position, final velocity, the velocity's slope over the last half) of the block
     on an incline of ``angle_deg``; N = m g cos θ."""
-    theta = math.radians(angle_deg)
-    options = RigOptions(mass_kg=mass_kg, normal_force_N=mass_kg * 9.81 * math.cos(theta),
-                         incline_deg=angle_deg, time_step_s=time_step_s, scheme=scheme)
-    h = simulate_rig(options, law, duration_s=duration_s, record_period_s=time_step_s)
+    h = simulate_rig(incline_options(angle_deg, time_step_s, scheme, mass_kg), law,
+                     duration_s=duration_s, record_period_s=time_step_s)
+    return read_incline(h, duration_s)
+
+
+def read_incline(h, duration_s=INCLINE_DURATION_S):
+    """``run_incline``'s reading of a rig history."""
     half = h["t"] >= 0.5 * duration_s
     t, v = h["t"][half], h["v_mps"][half]
     return float(h["x_m"][-1]), float(h["v_mps"][-1]), float((v[-1] - v[0]) / (t[-1] - t[0]))
