@@ -79,6 +79,9 @@ def test_the_local_and_the_global_route_agree_within_their_errors(name):
     assert all(all(c) for c in reference["converged"].values()), reference["converged"]
     # The errors are the routes' own, not zero: the local one from its windows.
     assert all(np.all(e > 0) for e in local["errors"].values()), local["errors"]
-    if name == "belt":  # a period's error at most a few Δmax / V: stated, not vacuous
+    if name == "belt":
+        # A period's error: each slip start's 2 P / V, P the windows' summed position errors
+        # before it, each window's of the order of Δmax (measured: 2-6 Δmax / V over the 4
+        # windows); 10 Δmax / V says it is a few windows' creep bands, not a vacuous bound.
         assert np.all(local["errors"]["period_s"]
-                      < 100 * BELT_LAW.dmax_translation_m / BELT["belt_speed_mps"])
+                      < 10 * BELT_LAW.dmax_translation_m / BELT["belt_speed_mps"])

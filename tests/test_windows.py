@@ -6,7 +6,7 @@ import types
 import pytest
 
 from drake_car.sim.window import Outcome, judge
-from drake_car.study.paper.local_route import local_rows, peak_error
+from drake_car.study.paper.local_route import local_rows, peak_error, peak_solver_error
 
 TOLERANCE = {0: 2e-5}  # the default ResolveEvents.position_tolerance_m
 
@@ -100,15 +100,33 @@ def _rows_of(solver_twin, solver_errors):
 
 
 def test_a_local_outcome_carries_its_windows_solver_errors_and_names_the_larger_axis():
-    rows = _rows_of(True, [1.0, 2.0])
+    # The step errors add window after window; each window's solver error is the whole run's
+    # up to its end (its twin runs on from the last one's): the largest is carried.
+    rows = _rows_of(True, [2.0, 1.0])
     row = rows[("x", "dd_right_b_m")]
-    assert row["error"] == pytest.approx(7e-6) and row["solver_error"] == pytest.approx(3e-6)
+    assert row["error"] == pytest.approx(7e-6) and row["solver_error"] == pytest.approx(2e-6)
     assert row["limited_by"] == "step"
-    row = _rows_of(True, [5.0, 6.0])[("x", "dd_right_b_m")]
-    assert row["solver_error"] == pytest.approx(11e-6) and row["limited_by"] == "solver"
+    row = _rows_of(True, [5.0, 9.0])[("x", "dd_right_b_m")]
+    assert row["solver_error"] == pytest.approx(9e-6) and row["limited_by"] == "solver"
     # The left rod's peak (2 mm at 1 s, between windows: a rest position) carries the solver
-    # errors of the windows before it, as its step error does.
+    # error of the windows before it, as its step error does.
     peak = rows[("x", "peak_dd_m")]
-    assert peak["error"] == pytest.approx(3e-6) and peak["solver_error"] == pytest.approx(1e-6)
+    assert peak["error"] == pytest.approx(3e-6) and peak["solver_error"] == pytest.approx(2e-6)
     # Without the twins (--no_solver_axis) no solver error is claimed.
     assert _rows_of(False, [0.0, 0.0])[("x", "dd_right_b_m")]["solver_error"] is None
+
+
+
+def test_a_peak_in_a_window_takes_how_far_the_solver_twin_moved_its_extreme():
+    levels = [{"extrema": {"d_left_m": [0.0, 2e-3], "d_right_m": [0.0, 1e-3]}, "counts": {}}] * 3
+    window = {"start_s": 0.5, "end_s": 1.5, "resolved": True, "levels": levels,
+              "step_s": 2.5e-4, "inherited_errors": {}, "gap_errors": {},
+              "position_errors": {"left_translation": 3e-6, "right_translation": 4e-6},
+              "solver_errors": {"left_translation": 1e-6, "right_translation": 1e-6},
+              "solver_extrema": {"d_left_m": [0.0, 2.004e-3], "d_right_m": [0.0, 1e-3]}}
+    run = _run([0.0] * 4, [0.0] * 4, [window])
+    # The left rod's 2 mm at 1 s, inside the window; its twin reached 2.004 mm: 4 µm (the
+    # window's rest-position solver error is not the peak's).
+    assert peak_solver_error(run, "peak_dd_m") == pytest.approx(4e-6)
+    window["levels"] = levels[:2]  # fewer than three levels: not estimated, as peak_error
+    assert peak_solver_error(run, "peak_dd_m") is None

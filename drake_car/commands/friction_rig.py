@@ -57,16 +57,21 @@ def main(argv=None):
                         "\"{scheme: reference, law: {mu_s: 0.4, mu_d: 0.3}}\"")
     p.add_argument("--resolve_events", default=None,
                    help="resolve the block's slips locally (sim.resolve): a scene's "
-                        "simulator.resolve_events section in YAML, without the solver "
-                        "twin (the rig has no SAP ballast), e.g. \"{solver_twin: false}\" or "
-                        "\"{solver_twin: false, position_tolerance_m: 5e-6}\"; rig.json's "
-                        "run.resolution says what it did (default: the whole run at its step)")
+                        "simulator.resolve_events section in YAML, without its solver twin "
+                        "(the rig has no SAP ballast), e.g. \"{}\" or "
+                        "\"{position_tolerance_m: 5e-6}\"; rig.json's run.resolution says "
+                        "what it did (default: the whole run at its step)")
     args = p.parse_args(argv)
     cli.check_out(args)
     friction = load_section(Friction, "friction", args.friction, f"--friction {args.friction!r}")
     resolve = (None if args.resolve_events is None else load_section(
         ResolveEvents, "resolve_events", args.resolve_events,
         f"--resolve_events {args.resolve_events!r}"))
+    if resolve is not None and resolve.solver_twin:
+        if "solver_twin" in args.resolve_events:  # asked for: the rig cannot
+            p.error("--resolve_events: solver_twin must be false on the friction rig (it has "
+                    "no SAP ballast to loosen its solver's tolerance with)")
+        resolve = dataclasses.replace(resolve, solver_twin=False)
     if resolve is not None and resolve.finest_step_s > args.time_step_s / 2:
         p.error(f"--resolve_events: finest_step_s = {resolve.finest_step_s:g} must be at most "
                 f"half of --time_step_s ({args.time_step_s:g} s)")
@@ -88,8 +93,14 @@ def main(argv=None):
             options=dataclasses.asdict(options), law=dataclasses.asdict(friction.law),
             duration_s=args.duration_s, run=run.record()))
         plot(history, out / "history.png", options, friction.law)
+    resolution = run.resolution
+    windows = "" if resolution is None else (
+        f"{resolution['window_count']} window(s) ({resolution['resolved']} resolved"
+        + (f", finest step {resolution['finest_step_s']:g} s" if resolution["window_count"]
+           else "") + "); ")
     print(f"final x = {history['x_m'][-1]:.6g} m, v = {history['v_mps'][-1]:.3g} m/s; "
-          f"{run.wall_s:.1f} s wall, {run.cpu_s:.1f} s CPU; wrote {args.out}/history.csv")
+          f"{windows}{run.wall_s:.1f} s wall, {run.cpu_s:.1f} s CPU; wrote "
+          f"{args.out}/history.csv")
 
 
 def plot(h, path, options, law):

@@ -242,6 +242,8 @@ class ResolveEvents:
     def check(self):
         one_of(self, "pairs", ("translation", "all"))
         one_of(self, "events", ("all", "near"))
+        if not isinstance(self.solver_twin, bool):
+            raise ParameterError("solver_twin", self.solver_twin, "must be true or false")
         positive(self, "finest_step_s", "position_tolerance_m", "angle_tolerance_rad",
                  "lead_s", "hold_s")
         nonnegative(self, "lookback_s")

@@ -55,11 +55,17 @@ and twice the move against the window's level 1 is the gap's error (first order)
 its rest position's (the convergence rule's; the span of its last three levels where it did not
 converge) plus both; a run's, their sum over its windows. Each level records the extremes of
 the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error. The
-solver axis (``_solver``, with ``solver_twin``): the resolving level again from the window's
-start with SAP's tolerance loosened twice; its moves are recorded apart (``solver_errors``).
+solver axis (``_solver``, with ``solver_twin``): the run again with SAP's tolerance loosened
+twice along its own windows (each gap at the run's step, each window at its resolving level,
+from where the last window's twin ended); how far each rest position at a window's end lies
+from the run's is recorded apart (``solver_errors``: the whole run's solver error up to there,
+not a window's share).
 
-The cost: a window of length W costs W/h·(1 + 2 + ... + 2^k) steps; the run's record
-(``Run.resolution``) gives every window, its levels, what each found, their steps and CPU.
+The cost: a window of length W costs W/h·(1 + 2 + ... + 2^k) steps for its levels, and its
+twins: W/h (what it inherits), 2·(G + W)/h (the gap G before it) and G/h + 2^k·W/h (the
+solver's);
+the run's record (``Run.resolution``) gives every window, its levels (each level's steps and CPU
+with the twins run at its step), what each found, and the solver twin's own steps and CPU.
 """
 
 import math
@@ -73,10 +79,12 @@ from drake_car.sim.window import (
     summarise, window_record)
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state, state_values
+from drake_car.sim.twins import Twins
 
 _EPS = 1e-9
-class Resolver:
-    """The windows of one ``sim.simulate.Runner`` (see the module)."""
+class Resolver(Twins):
+    """The windows of one ``sim.simulate.Runner`` (see the module); its twins
+    (``sim.twins``)."""
 
     def __init__(self, runner, *, settings, step_s, make_level, selects):
         """``settings``: a ``scene.scene.ResolveEvents``; ``step_s``: the run's step;
@@ -111,6 +119,8 @@ class Resolver:
         # run's first static moment (``_gap``).
         self.after_last = None
         self.chain = []  # per window: its start checkpoint, the alternative before it, its end
+        # Where the last window's solver twin ended (``_solver``), None before one.
+        self.solver_after = None
 
     # -- called by the runner --------------------------------------------------------------
     def before_chunk(self):
@@ -206,6 +216,7 @@ class Resolver:
                                     + gone["merged"]["steps"] + sum(o.steps for o in outcomes))
                 checkpoint, self.alternative = previous["checkpoint"], previous["alternative"]
                 self.after_last = previous["after_last"]
+                self.solver_after = previous["solver_after"]
                 continue
             break
         resolved = errors is not None
@@ -214,20 +225,21 @@ class Resolver:
                       if len(outcomes) > 1 else math.inf for i in self.selected}
         chosen = outcomes[-1]
         self.chain.append({"checkpoint": checkpoint, "alternative": self.alternative,
-                           "after_last": self.after_last, "end_s": chosen.end_s})
+                           "after_last": self.after_last, "solver_after": self.solver_after,
+                           "end_s": chosen.end_s})
         self.alternative = coarser
         gap = self._gap(outcomes, checkpoint, end_s)
         for i in errors:
             errors[i] += inherited.get(i, 0.0) + gap.get(i, 0.0)
         self._hand_back(checkpoint, chosen)
-        solver, solver_extrema = self._solver(chosen, checkpoint, end_s)
+        solver, solver_extrema, solver_cost = self._solver(chosen, checkpoint, end_s)
         self.after_last = Checkpoint(chosen.end_s, state_values(self.runner.built,
                                                                  self.runner.root),
                                      self.runner.monitor.snapshot(), 0)
         self.windows.append(window_record(
             self.names, checkpoint, chosen, trigger, outcomes, resolved=resolved, errors=errors,
             inherited=inherited, gap=gap, merged=merged, solver=solver,
-            solver_extrema=solver_extrema,
+            solver_extrema=solver_extrema, solver_cost=solver_cost,
             cpu_s=time.process_time() - began_cpu + merged["cpu_s"]))
 
     def _levels(self, checkpoint, trigger, end_s):
@@ -285,57 +297,6 @@ class Resolver:
             for o in behind:
                 self._advance(self.levels[o.level], o, end_s, until_quiet=True, to_s=last)
 
-    def _inherited(self, outcomes, end_s):
-        """{pair: the error this window inherits from the last one}: the window's start state
-        is the last window's finest level's end state, whose own error the next coarser level's
-        end state stands for (first order: their difference); the window's level 0 is run
-        again from that one, from the last window's end, and each pair's rest position moves
-        by what the inherited error does to it. Empty for the run's first window (its state
-        comes from the run's own step, every strut static since the start)."""
-        if self.alternative is None:
-            return {}
-        return self._twin(outcomes[0], self.alternative, end_s)
-
-    def _gap(self, outcomes, checkpoint, end_s):
-        """{pair: the error of the gap before this window}: the run went from the last window's
-        end (or its first static moment) to this window's start at its own step; the gap and
-        the window are run again at level 1 (half the step) from there, and each pair's rest
-        position's move against the window's level 1 is the gap's step error. Empty where the
-        window starts where the last one ended, or its level 1 is the one it hands back."""
-        start = self.after_last
-        if (start is None or checkpoint.time_s <= start.time_s + _EPS
-                or len(outcomes) < 3):
-            return {}
-        # The gap ran at h, the twin at h/2: at first order the gap's error at h is twice
-        # their difference.
-        return {i: 2.0 * e for i, e in self._twin(outcomes[1], start, end_s).items()}
-
-    def _solver(self, chosen, checkpoint, end_s):
-        """The solver axis: ({pair: how far its rest position moves}, {channel: the twin's
-        extremes}) when the resolving level is run again from the window's start with SAP's
-        tolerance loosened twice (``systems.sap_ballast``; to first order in the tolerance,
-        the solver's share of the error, as ``sweep.refine``'s twin of a whole run); empty
-        without ``solver_twin``."""
-        if not self.settings.solver_twin:
-            return {}, {}
-        if chosen.level not in self.solver_levels:
-            self.solver_levels[chosen.level] = self._make_level(chosen.step_s, solver_factor=2.0)
-        runner = self.solver_levels[chosen.level]
-        moved = self._twin(chosen, checkpoint, end_s, runner)
-        return moved, extrema(runner, checkpoint.time_s)
-
-    def _twin(self, level, start, end_s, runner=None):
-        """{pair: how far its rest position at ``level``'s end moves} when ``level`` (an
-        outcome) is run again from ``start`` (a Checkpoint) in its own Diagram (``runner``;
-        default: its level's); the twin's steps and CPU are counted to it."""
-        twin = Outcome(level.level, level.step_s, start.time_s, {}, {}, {}, [])
-        runner = runner or self._level_runner(level.level)
-        start_level(runner, start)
-        self._advance(runner, twin, end_s, until_quiet=False, to_s=level.end_s)
-        level.cpu_s += twin.cpu_s
-        level.steps += twin.steps
-        return {i: abs(twin.positions[i] - level.positions[i]) for i in self.selected}
-
     def _hand_back(self, checkpoint, chosen):
         """The resolving level's end state into the runner, its history and events kept."""
         runner, fine = self.runner, self.levels[chosen.level]
@@ -370,10 +331,12 @@ class Resolver:
     def export(self):
         """What a branched run continues with (``sim.branch``)."""
         return (list(self.checkpoints), [dict(w) for w in self.windows], list(self.spliced),
-                self.floor_s, self.alternative, self.after_last, list(self.chain))
+                self.floor_s, self.alternative, self.after_last, list(self.chain),
+                self.solver_after)
 
     def adopt(self, exported):
-        checkpoints, windows, spliced, floor, alternative, after_last, chain = exported
+        (checkpoints, windows, spliced, floor, alternative, after_last, chain,
+         self.solver_after) = exported
         self.checkpoints, self.windows, self.spliced, self.floor_s, self.alternative = (
             list(checkpoints), [dict(w) for w in windows], list(spliced), floor, alternative)
         self.after_last, self.chain = after_last, list(chain)

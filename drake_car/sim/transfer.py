@@ -50,6 +50,7 @@ class StateValues:
     groups: dict
     step_s: float
     plant_names: tuple = ()
+    sap_factor: float = 1.0  # the Diagram's SAP tolerance factor (``systems.sap_ballast``)
 
 
 def state_values(built, root) -> StateValues:
@@ -63,7 +64,8 @@ def state_values(built, root) -> StateValues:
                                          for i in range(count)]
     plant = built.plant
     return StateValues(root.get_time(), groups, built.time_step_s,
-                       tuple(plant.GetPositionNames()) + tuple(plant.GetVelocityNames()))
+                       tuple(plant.GetPositionNames()) + tuple(plant.GetVelocityNames()),
+                       _sap_factor(built))
 
 
 def set_state(built, simulator, values: StateValues):
@@ -90,7 +92,8 @@ def set_state(built, simulator, values: StateValues):
     ratio = built.time_step_s / values.step_s
     if ratio != 1.0 and built.plant.num_constraints():  # the car's loop closures
         scale_constraint_violation(built, root, ratio ** 2)
-    _follow_ballast(built, root)
+    if _sap_factor(built) != values.sap_factor:  # into another tolerance: the solver twin
+        _follow_ballast(built, root)
     for system in built.diagram.GetSystems():
         if isinstance(system, (GainSchedule, StrutFriction)):
             system.ForcedPublish(system.GetMyContextFromRoot(root))
@@ -100,19 +103,29 @@ def set_state(built, simulator, values: StateValues):
 def _plant_groups(plant, context, groups, names):
     """The plant's state ``groups`` (from a plant with state ``names``) as this plant takes
     them: as they are where the names agree; else by name, this plant's other entries (the
-    SAP ballast's joint: ``systems.sap_ballast``) as they are in ``context``."""
+    SAP ballast's joint: ``systems.sap_ballast``) zero (its velocity is then set to its
+    target: ``_follow_ballast``)."""
     mine = tuple(plant.GetPositionNames()) + tuple(plant.GetVelocityNames())
     if not names or names == mine:
         return groups
     missing = sorted(set(names) - set(mine))
-    if missing or len(groups) != 1:
+    if missing:
         raise ValueError(f"set_state: the plant has no state entries {missing[:3]}; a state "
                          "moves only between Diagrams of one car")
-    value = context.get_discrete_state(0).get_value().copy()
+    if len(groups) != 1:
+        raise ValueError(f"set_state: the plant's state comes in {len(groups)} groups; by name "
+                         "only one is moved")
+    value = np.zeros(context.get_discrete_state(0).size())
     where = {name: k for k, name in enumerate(mine)}
     for k, name in enumerate(names):
         value[where[name]] = groups[0][k]
     return [value]
+
+
+def _sap_factor(built):
+    """The SAP tolerance factor ``built``'s Diagram was built with (1: no ballast)."""
+    scene = getattr(built, "scene", None)
+    return scene.simulator.sap_tolerance_factor if scene is not None else 1.0
 
 
 def _follow_ballast(built, root):

@@ -154,7 +154,7 @@ def spliced_history(history, spliced):
 
 
 def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, errors, inherited,
-                  gap, merged, cpu_s, solver=None, solver_extrema=None):
+                  gap, merged, cpu_s, solver=None, solver_extrema=None, solver_cost=None):
     """A window's record (JSON-ready; ``sim.resolve``): ``names`` the friction's pair names,
     ``chosen`` the level it hands back, the errors per pair index."""
     def by_name(values):
@@ -166,8 +166,10 @@ def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, err
         "resolved": resolved, "step_s": chosen.step_s,
         "position_errors": by_name(errors), "inherited_errors": by_name(inherited),
         "gap_errors": by_name(gap), "merged": merged,
-        # The solver axis (``Resolver._solver``): not part of position_errors.
+        # The solver axis (``sim.twins``): the whole run's solver error at the window's end,
+        # not part of position_errors.
         "solver_errors": by_name(solver or {}), "solver_extrema": solver_extrema or {},
+        "solver_twin": solver_cost,  # its steps and CPU (None: no twin)
         "levels": [{"step_s": o.step_s, "steps": o.steps, "cpu_s": o.cpu_s,
                     "counts": {names[i]: list(c) for i, c in o.counts.items()},
                     "times": by_name(o.times), "positions": by_name(o.positions),
@@ -187,8 +189,8 @@ def record(settings, windows):
     for w in windows:
         for pair, error in w["position_errors"].items():
             errors[pair] = errors.get(pair, 0.0) + error
-        for pair, error in w.get("solver_errors", {}).items():
-            solver[pair] = solver.get(pair, 0.0) + error
+        for pair, error in w.get("solver_errors", {}).items():  # each the run's up to there
+            solver[pair] = max(solver.get(pair, 0.0), error)
     return {"settings": dataclasses.asdict(settings), "windows": windows,
             "window_count": len(windows),
             "resolved": sum(w["resolved"] for w in windows),
@@ -196,4 +198,7 @@ def record(settings, windows):
             "position_errors": errors, "solver_errors": solver,
             "window_steps": sum(sum(lv["steps"] for lv in w["levels"]) + w["merged"]["steps"]
                                 for w in windows),
-            "cpu_s": sum(w["cpu_s"] for w in windows)}
+            "cpu_s": sum(w["cpu_s"] for w in windows),
+            # of it, the solver twins'
+            "solver_cpu_s": sum((w.get("solver_twin") or {}).get("cpu_s", 0.0)
+                                for w in windows)}

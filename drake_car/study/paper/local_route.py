@@ -70,7 +70,8 @@ def accurate_runs(scenes, roles, timeline, simulate, *, route, extra, halve, fin
             ("global", [level[n] for level in refined.runs.values() if n in level])
             for n in scenes}
     summaries = run_summaries(made)
-    refinement = {"route": route, "rounds": refined.rounds, "wall_s": refined.wall_s,
+    refinement = {"route": route, "solver_axis": solver_twin is not None,
+                  "rounds": refined.rounds, "wall_s": refined.wall_s,
                   "stopped": refined.stopped, "steps_s": refined.steps_s, "runs": summaries,
                   "finest_step_s": min(r["finest_step_s"] or math.inf
                                        for r in summaries.values())}
@@ -109,7 +110,8 @@ def errors_between(run, start_s=-math.inf, end_s=math.inf, axis="position_errors
     """side -> the error of the strut's rest positions (m) from ``run``'s windows that reach
     into (``start_s``, ``end_s``): their sum; None when the run resolved no window.
     ``axis``: "position_errors" (the step's: convergence, inheritance, gaps) or
-    "solver_errors" (the windows' solver twins)."""
+    "solver_errors" (the solver twin's: each window's is the whole run's up to its end, so the
+    largest of them)."""
     resolution = run.resolution or {}
     if not resolution.get("window_count"):
         return None
@@ -117,7 +119,9 @@ def errors_between(run, start_s=-math.inf, end_s=math.inf, axis="position_errors
     for w in resolution["windows"]:
         if w["end_s"] > start_s and w["start_s"] < end_s:
             for side in SIDES:
-                out[side] += float(w.get(axis, {}).get(f"{side}_translation", 0.0))
+                error = float(w.get(axis, {}).get(f"{side}_translation", 0.0))
+                out[side] = (out[side] + error if axis == "position_errors"
+                             else max(out[side], error))
     return out
 
 
@@ -175,21 +179,18 @@ def peak_error(run, outcome, tolerance):
 
 def peak_solver_error(run, outcome):
     """The solver axis of peak ``outcome`` (see ``peak_error``): in a window, how far the
-    window's solver twin moved the channel's extreme (plus, for Δd, the solver errors of the
-    windows before it); a rest position between windows: the windows' solver errors before
-    it; None where ``peak_error`` gives none or no window ran a twin."""
+    solver twin's extreme of the channel lies from the run's (the twin carries the run's
+    solver error up to there); a rest position between windows: the solver error of the
+    windows before it; None where ``peak_error`` gives none or no window ran a twin."""
     channel, side, t, ref, scale, windows = _peak_at(run, outcome)
     before = (errors_between(run, end_s=t, axis="solver_errors") or {}).get(side)
     if not windows:
         return before if outcome == "peak_dd_m" else None
     w, name = windows[0], channel.format(side)
     twin, chosen = w.get("solver_extrema", {}).get(name), w["levels"][-1]["extrema"].get(name)
-    if twin is None or chosen is None:
+    if twin is None or chosen is None or len(w["levels"]) < 3:  # as peak_error
         return None
-    error = abs(max(abs(a - ref) for a in twin) - max(abs(b - ref) for b in chosen)) / scale
-    if outcome == "peak_dd_m" and before is not None:
-        error += before - w["solver_errors"].get(f"{side}_translation", 0.0)
-    return error
+    return abs(max(abs(a - ref) for a in twin) - max(abs(b - ref) for b in chosen)) / scale
 
 
 def local_rows(values: dict, runs: dict, timeline):
@@ -229,8 +230,8 @@ def local_rows(values: dict, runs: dict, timeline):
                 else error <= tolerance and all_resolved),
             "observed_order": None, "step_s": _step(runs[names[0]]), "route": "local",
             "solver_error": solver if _twinned(runs[n] for n in names) else None,
-            "limited_by": ("solver" if error is not None and solver is not None
-                           and solver > error else "step"),
+            "limited_by": (None if error is None else "solver"
+                           if solver is not None and solver > error else "step"),
             **resolution_fields(runs[n] for n in names)}
     return rows
 
@@ -259,9 +260,9 @@ def _carried(outcome, subject, value, values, runs, names, boundaries, axis):
         if any(during.values()):
             return 2.0 * max(during.values())
         # No window in the return: the creep band it can move in while static (the step's
-        # axis); the solver's none.
+        # axis); the solver's is not measured there (no twin between windows).
         return (2.0 * runs[names[0]].scene.friction.law.dmax_translation_m
-                if axis == "position_errors" else 0.0)
+                if axis == "position_errors" else None)
     if outcome == "mirror_residual_m":
         return sum(max(e.values()) for e in at_b)
     return None
@@ -318,11 +319,16 @@ def error_method(refinement):
         f"({1e3 * refinement['finest_step_s']:g} ms tried) or the budget is reached "
         f"({refinement['stopped']}). Converged: the last two differences are within the "
         "tolerance and shrink as a first-order scheme's do; the error is then the last "
-        "difference, plus the solver's: each such run's twin at its finest step with SAP's "
-        "tolerance loosened twice moves it by that much (\"solver\" where that is the larger "
-        "part)" + ("; on the local route each window's resolving level is run again so, its "
-                  "rest positions' moves the windows' solver error, carried to each outcome "
-                  "as the step's is" if local else "") + ". A "
+        "difference" + ((", plus the solver's: each such run's twin at its finest step "
+                         "with SAP's tolerance loosened twice moves it by that much "
+                         "(\"solver\" where that is the larger part)" + (
+                             "; on the local route the twin runs along the run's own "
+                             "windows (each gap at the run's step, each window at its "
+                             "resolving level) with SAP's tolerance loosened twice, and how "
+                             "far the rods' rest positions at a window's end lie from the "
+                             "run's is the run's solver error up to there"
+                             if local else "")) if refinement.get("solver_axis", True)
+                       else " (no solver axis: --no_solver_axis)") + ". A "
         "maximum over runs is taken over each run's own value, its error the largest of "
         "theirs: a run is only ever compared with itself. A verdict is decided only where its "
         "margin exceeds that error (a value that did not converge: the spread of its last "
