@@ -26,6 +26,15 @@ def with_car(scene, **front):
         scene.car, front=dataclasses.replace(scene.car.front, **front)))
 
 
+def assert_same_state(a, b):
+    """Two runners' Diagrams hold the same discrete state, bit for bit (``sim.transfer``)."""
+    from drake_car.sim import transfer
+    va, vb = (transfer.state_values(r.built, r.root) for r in (a, b))
+    for system, groups in va.groups.items():
+        for i, values in enumerate(groups):
+            assert np.array_equal(values, vb.groups[system][i]), (system, i)
+
+
 def assert_finite(history):
     for name, values in history.items():
         if name != "phase":

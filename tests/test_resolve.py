@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from conftest import assert_finite, paper_scene
+from conftest import assert_finite, assert_same_state, paper_scene
 from drake_car.law.friction.events import (
     BREAK_AWAY, EVENT_FIELDS, SATURATION, STICK, log_size, note_transitions, read_log)
 from drake_car.results.files import run_texts
@@ -82,10 +82,7 @@ def test_a_state_moved_to_a_diagram_of_the_same_step_continues_bit_for_bit(loose
     transfer.set_state(b.built, b.simulator, transfer.state_values(a.built, a.root))
     a.advance_to(0.15)
     b.advance_to(0.15)
-    va, vb = (transfer.state_values(r.built, r.root) for r in (a, b))
-    for system, groups in va.groups.items():
-        for i, values in enumerate(groups):
-            assert np.array_equal(values, vb.groups[system][i]), (system, i)
+    assert_same_state(a, b)
 
 
 @pytest.mark.parametrize("scaled", [True, False])
@@ -227,8 +224,12 @@ def test_a_branched_resolved_run_equals_the_run_from_scratch():
     ("simulator: {resolve_events: {}}", "nothing to resolve"),
     ("simulator: {resolve_events: {finest_step_s: 0.001}}", "half of plant.time_step"),
     ("simulator: {resolve_events: {pairs: rotation}}", "pairs"),
+    ("simulator: {sap_tolerance_factor: 60, resolve_events: {}}", "ballast is sized"),
+    ("simulator: {resolve_events: {solver_twin: 3}}", "solver_twin"),
 ])
 def test_resolve_events_is_refused_where_it_changes_nothing(text, match):
+    """... or where it cannot run: a solver twin beyond the ballast's range, a twin that is not
+    true or false."""
     name = "a_1" if "nothing" in match else "a_3"
     with pytest.raises(SceneError, match=match):
         paper_scene(name, text)

@@ -300,6 +300,11 @@ class Simulator:
             raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor,
                                  "must be a number from 1 to 100 (SAP's tolerance can only be "
                                  "loosened from Python; a budget's twin uses 2)")
+        if (self.resolve_events is not None and self.resolve_events.solver_twin
+                and self.sap_tolerance_factor > 50.0):
+            raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor,
+                                 "must be <= 50 with resolve_events.solver_twin (its twin runs "
+                                 "at twice the factor, and the ballast is sized for 100)")
         if self.equilibrium_settle_s > 60.0:
             raise ParameterError("equilibrium_settle_s", self.equilibrium_settle_s,
                                  "must be <= 60 s (the car settles within ~5 s)")
