@@ -68,9 +68,14 @@ def numbers_table(s):
         for r in rows:
             threshold = threshold_text(r) if r["relation"] is not None else "-"
             axis = " (solver)" if r.get("limited_by") == "solver" else ""
+            # Not converged: the spread of the last three steps (global), the windows' summed
+            # error (local, whose windows' own spreads are in it).
+            budget = quantity(r["error"], r["unit"]) if r["error"] is not None else ""
+            unconverged = (f"±{budget} from the windows" if r.get("route") == "local"
+                           else f"span {budget}")
             error = ("-" if r["error"] is None else
                      quantity(r["error"], r["unit"], True) + axis if r["converged"] else
-                     f"not converged (span {quantity(r['error'], r['unit'])})")
+                     f"not converged ({unconverged})")
             margin = "-" if r["margin"] is None else \
                 f"{quantity(r['margin'], r['unit'])} = {flip(r)}"
             lines.append(table_row(
