@@ -224,7 +224,7 @@ def test_a_branched_resolved_run_equals_the_run_from_scratch():
     ("simulator: {resolve_events: {}}", "nothing to resolve"),
     ("simulator: {resolve_events: {finest_step_s: 0.001}}", "half of plant.time_step"),
     ("simulator: {resolve_events: {pairs: rotation}}", "pairs"),
-    ("simulator: {sap_tolerance_factor: 60, resolve_events: {}}", "ballast is sized"),
+    ("simulator: {sap_tolerance_factor: 60, resolve_events: {}}", "twin runs at twice"),
     ("simulator: {resolve_events: {solver_twin: 3}}", "solver_twin"),
 ])
 def test_resolve_events_is_refused_where_it_changes_nothing(text, match):

@@ -216,18 +216,16 @@ Manoeuvre = typing.Union[(*typing.get_args(manoeuvres.Manoeuvre), *PATH_MANOEUVR
 class ResolveEvents:
     """Stick-slip events resolved locally (``sim.resolve``): where a friction pair of the struts
     (``pairs``: translation, the rods' sliding, which decides where they rest; or all, rotation
-    too) slips (``events``: "all", every break-away or full creep; "near", only those whose
-    outcome looks step-dependent at the run's step: a full creep, or a break-away that crossed
-    the static band in more than one step), the run resolves a window around it at halved steps
-    until the window's outcome (each pair's slips and sticks, where it rests: converged within
-    ``position_tolerance_m``, or ``angle_tolerance_rad`` for rotation, by the global route's rule,
+    too) slips (``events``: "all", every break-away or full creep; "near", only a full creep or
+    a break-away that crossed the static band in more than one step), the run resolves a window
+    around it at halved steps until the window's outcome (each pair's slips and sticks, where it
+    rests: converged within ``position_tolerance_m``, or ``angle_tolerance_rad`` for rotation,
     and how close each came to breaking away) no longer changes with a further halving, down to
     ``finest_step_s``, and goes on at its own step from the finest window's end. A window starts
     ``lead_s`` before its event, and before every slip of the pairs that ended within
-    ``lookback_s`` before it (they set the loads it is decided by); it ends once every pair has
-    been static, short of its full creep, for ``hold_s``. ``solver_twin``: the error budget's
-    solver axis, each window's resolving level run again with SAP's tolerance loosened twice
-    (``simulator.sap_tolerance_factor``)."""
+    ``lookback_s`` before it; it ends once every pair has been static, short of its full creep,
+    for ``hold_s``. ``solver_twin``: the budget's solver axis (``sim.twins``: the run again
+    along its windows with SAP's tolerance loosened twice)."""
 
     pairs: str = "translation"
     events: str = "all"
@@ -242,8 +240,6 @@ class ResolveEvents:
     def check(self):
         one_of(self, "pairs", ("translation", "all"))
         one_of(self, "events", ("all", "near"))
-        if not isinstance(self.solver_twin, bool):
-            raise ParameterError("solver_twin", self.solver_twin, "must be true or false")
         positive(self, "finest_step_s", "position_tolerance_m", "angle_tolerance_rad",
                  "lead_s", "hold_s")
         nonnegative(self, "lookback_s")
@@ -300,11 +296,9 @@ class Simulator:
             raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor,
                                  "must be a number from 1 to 100 (SAP's tolerance can only be "
                                  "loosened from Python; a budget's twin uses 2)")
-        if (self.resolve_events is not None and self.resolve_events.solver_twin
-                and self.sap_tolerance_factor > 50.0):
-            raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor,
-                                 "must be <= 50 with resolve_events.solver_twin (its twin runs "
-                                 "at twice the factor, and the ballast is sized for 100)")
+        if getattr(self.resolve_events, "solver_twin", False) and self.sap_tolerance_factor > 50:
+            raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor, "must be <= 50 "
+                                 "with resolve_events.solver_twin (its twin runs at twice it)")
         if self.equilibrium_settle_s > 60.0:
             raise ParameterError("equilibrium_settle_s", self.equilibrium_settle_s,
                                  "must be <= 60 s (the car settles within ~5 s)")
