@@ -68,7 +68,7 @@ from drake_car.study.paper.outcomes import (
     at_one_step, read_outcomes, study_outcomes, write_outcomes)
 from drake_car.study.paper.local_route import accurate_runs
 from drake_car.study.paper.report import report, summary
-from drake_car.sweep.refine import halved, loosened
+from drake_car.sweep.refine import check_twin, halved, loosened
 from drake_car.sweep.runner import run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
@@ -108,6 +108,9 @@ def main(argv=None):
     cli.check_out(args)
     scenes = load_scene_file(args.scene, args.scene_text or None)
     roles = check_study_scenes(scenes)  # before any work
+    if not (args.no_verify or args.no_solver_axis):
+        for scene in scenes.values():
+            check_twin(scene)
     scenes, calibration = prepare(scenes, run=simulate_here)
     replayed = None
     if not args.no_html:

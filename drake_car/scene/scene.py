@@ -38,6 +38,7 @@ from drake_car.law.road.profiles import Flat, Road
 from drake_car.law.tyre.slip import SlipOptions
 from drake_car.model.parameters import CarParameters
 from drake_car.scene import manoeuvres
+from drake_car.systems.sap_ballast import MAX_FACTOR
 from drake_car.scene.manoeuvres import LaneChange
 from drake_car.scene.paths import PATH_MANOEUVRES, PathFollower
 
@@ -291,14 +292,13 @@ class Simulator:
             if self.equilibrium_time_step_s > 0.01:
                 raise ParameterError("equilibrium_time_step_s", self.equilibrium_time_step_s,
                                      "must be <= 0.01 s")
-        if not (math.isfinite(self.sap_tolerance_factor) and 1.0 <= self.sap_tolerance_factor
-                <= 100.0):
-            raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor,
-                                 "must be a number from 1 to 100 (SAP's tolerance can only be "
-                                 "loosened from Python; a budget's twin uses 2)")
-        if getattr(self.resolve_events, "solver_twin", False) and self.sap_tolerance_factor > 50:
-            raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor, "must be <= 50 "
-                                 "with resolve_events.solver_twin (its twin runs at twice it)")
+        twin = 2.0 if getattr(self.resolve_events, "solver_twin", False) else 1.0
+        if not (math.isfinite(self.sap_tolerance_factor)
+                and 1.0 <= self.sap_tolerance_factor <= MAX_FACTOR / twin):
+            raise ParameterError("sap_tolerance_factor", self.sap_tolerance_factor, (
+                f"must be a number from 1 to {MAX_FACTOR / twin:g} (SAP's tolerance can only be "
+                "loosened from Python" + ("; resolve_events.solver_twin runs at twice it)"
+                                          if twin > 1 else ")")))
         if self.equilibrium_settle_s > 60.0:
             raise ParameterError("equilibrium_settle_s", self.equilibrium_settle_s,
                                  "must be <= 60 s (the car settles within ~5 s)")

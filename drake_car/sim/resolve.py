@@ -63,9 +63,9 @@ not a window's share).
 
 The cost: a window of length W costs W/h·(1 + 2 + ... + 2^k) steps for its levels, and its
 twins: W/h (what it inherits), 2·(G + W)/h (the gap G before it) and G/h + 2^k·W/h (the
-solver's);
-the run's record (``Run.resolution``) gives every window, its levels (each level's steps and CPU
-with the twins run at its step), what each found, and the solver twin's own steps and CPU.
+solver's); the run's record (``Run.resolution``) gives every window, its levels (each level's
+steps and CPU with the twins counted to it: the resolving level's hold the solver twin's, its
+gap at the run's step included), what each found, and the solver twin's own steps and CPU.
 """
 
 import math
@@ -75,13 +75,12 @@ import numpy as np
 
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
 from drake_car.sim.window import (
-    Checkpoint, Outcome, extrema, judge, quiet, record, span, spliced_history, start_level,
+    EPS, Checkpoint, Outcome, extrema, judge, quiet, record, span, spliced_history, start_level,
     summarise, window_record)
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state, state_values
 from drake_car.sim.twins import Twins
 
-_EPS = 1e-9
 class Resolver(Twins):
     """The windows of one ``sim.simulate.Runner`` (see the module); its twins
     (``sim.twins``)."""
@@ -134,7 +133,7 @@ class Resolver(Twins):
         # the checkpoints of twice that are kept.
         s = self.settings
         keep = 2 * s.lookback_s + s.lead_s + self.runner.built.monitor_period_s
-        self.checkpoints = [c for c in self.checkpoints if c.time_s >= now - keep - _EPS]
+        self.checkpoints = [c for c in self.checkpoints if c.time_s >= now - keep - EPS]
         self.checkpoints.append(Checkpoint(now, state_values(self.runner.built, root),
                                            self.runner.monitor.snapshot(),
                                            len(self.runner.events)))
@@ -177,11 +176,11 @@ class Resolver(Twins):
                 if t >= event_s - s.lookback_s:
                     start = min(start, began)
         start = max(min([start] + list(open_since.values())), self.floor_s)
-        usable = [c for c in self.checkpoints if c.time_s <= start + _EPS
-                  and c.time_s >= self.floor_s - _EPS]
+        usable = [c for c in self.checkpoints if c.time_s <= start + EPS
+                  and c.time_s >= self.floor_s - EPS]
         if usable:
             return usable[-1]
-        later = [c for c in self.checkpoints if c.time_s >= self.floor_s - _EPS]
+        later = [c for c in self.checkpoints if c.time_s >= self.floor_s - EPS]
         return later[0] if later else None
 
     def _resolve(self, trigger, end_s):
@@ -190,7 +189,7 @@ class Resolver(Twins):
             return
         began_cpu = time.process_time()
         s = self.settings
-        merged = {"windows": 0, "cpu_s": 0.0, "steps": 0}
+        merged = {"windows": 0, "cpu_s": 0.0, "steps": 0, "solver_cpu_s": 0.0}
         while True:
             outcomes, errors = self._levels(checkpoint, trigger, end_s)
             for o in outcomes:  # before the twins below reuse levels 0 and 1
@@ -204,7 +203,7 @@ class Resolver(Twins):
             previous = self.chain[-1] if self.chain else None
             if (previous is not None
                     and any(e > self.tolerance[i] for i, e in inherited.items())
-                    and checkpoint.time_s - previous["end_s"] <= s.lookback_s + _EPS):
+                    and checkpoint.time_s - previous["end_s"] <= s.lookback_s + EPS):
                 # What this window inherits from the last one exceeds the tolerance: the two
                 # are resolved as one window, from the last one's start.
                 self.chain.pop()
@@ -212,6 +211,8 @@ class Resolver(Twins):
                 self.spliced.pop()
                 merged["windows"] += 1 + gone["merged"]["windows"]
                 merged["cpu_s"] += gone["cpu_s"]
+                merged["solver_cpu_s"] += ((gone["solver_twin"] or {}).get("cpu_s", 0.0)
+                                           + gone["merged"]["solver_cpu_s"])
                 merged["steps"] += (sum(lv["steps"] for lv in gone["levels"])
                                     + gone["merged"]["steps"] + sum(o.steps for o in outcomes))
                 checkpoint, self.alternative = previous["checkpoint"], previous["alternative"]
@@ -254,7 +255,7 @@ class Resolver(Twins):
             errors = judge(outcomes, self.selected, self.tolerance)
             if errors is not None:
                 return outcomes, errors
-            if self.step_s / 2 ** (level + 1) < s.finest_step_s * (1 - _EPS):
+            if self.step_s / 2 ** (level + 1) < s.finest_step_s * (1 - EPS):
                 return outcomes, None
             level += 1
 
@@ -275,13 +276,13 @@ class Resolver(Twins):
         ``end_s``; fills ``outcome``."""
         began, steps0 = time.process_time(), runner.monitor.stats.steps
         period = runner.built.monitor_period_s
-        while runner.root.get_time() < end_s - _EPS:
+        while runner.root.get_time() < end_s - EPS:
             now = runner.root.get_time()
-            if (to_s is None or now >= to_s - _EPS) and now > outcome.end_s + _EPS and (
+            if (to_s is None or now >= to_s - EPS) and now > outcome.end_s + EPS and (
                     not until_quiet
                     or quiet(runner, self.selected, self.dmax, self.settings.hold_s)):
                 break
-            runner.step_chunk(min((math.floor(now / period + _EPS) + 1) * period, end_s))
+            runner.step_chunk(min((math.floor(now / period + EPS) + 1) * period, end_s))
         outcome.end_s = runner.root.get_time()
         outcome.steps += runner.monitor.stats.steps - steps0
         outcome.cpu_s += time.process_time() - began
@@ -291,7 +292,7 @@ class Resolver(Twins):
         """All levels run to one end: the latest, where each of them is quiet."""
         while True:
             last = max(o.end_s for o in outcomes)
-            behind = [o for o in outcomes if o.end_s < last - _EPS]
+            behind = [o for o in outcomes if o.end_s < last - EPS]
             if not behind:
                 return
             for o in behind:
@@ -301,7 +302,7 @@ class Resolver(Twins):
         """The resolving level's end state into the runner, its history and events kept."""
         runner, fine = self.runner, self.levels[chosen.level]
         history = logged_history(fine.built, fine.root)
-        keep = history["t"] > checkpoint.time_s + _EPS
+        keep = history["t"] > checkpoint.time_s + EPS
         self.spliced.append((checkpoint.time_s, chosen.end_s,
                              {k: v[keep] for k, v in history.items()}))
         set_state(runner.built, runner.simulator, state_values(fine.built, fine.root))

@@ -4,12 +4,12 @@ the run's step (``_gap``), and SAP's tolerance (``_solver``, the solver axis). A
 ``sim.resolve.Resolver``, whose state (levels, checkpoints, the last window's end) they use."""
 
 from drake_car.sim.transfer import state_values
-from drake_car.sim.window import Checkpoint, Outcome, extrema, start_level
-
-_EPS = 1e-9
+from drake_car.sim.window import EPS, Checkpoint, Outcome, extrema, start_level
 
 
 class Twins:
+    """The twins' methods of a ``sim.resolve.Resolver`` (see the module)."""
+
     def _inherited(self, outcomes, end_s):
         """{pair: the error this window inherits from the last one}: the window's start state
         is the last window's finest level's end state, whose own error the next coarser level's
@@ -28,7 +28,7 @@ class Twins:
         position's move against the window's level 1 is the gap's step error. Empty where the
         window starts where the last one ended, or its level 1 is the one it hands back."""
         start = self.after_last
-        if (start is None or checkpoint.time_s <= start.time_s + _EPS
+        if (start is None or checkpoint.time_s <= start.time_s + EPS
                 or len(outcomes) < 3):
             return {}
         # The gap ran at h, the twin at h/2: at first order the gap's error at h is twice
@@ -48,7 +48,7 @@ class Twins:
             return {}, {}, None
         steps, cpu_s = chosen.steps, chosen.cpu_s
         start = self.solver_after if self.solver_after is not None else self.after_last
-        if start.time_s < checkpoint.time_s - _EPS:  # the gap, at the run's step
+        if start.time_s < checkpoint.time_s - EPS:  # the gap, at the run's step
             runner = self._solver_level(0)
             start_level(runner, start)
             gap = Outcome(0, self.step_s, start.time_s, {}, {}, {}, [])

@@ -12,7 +12,7 @@ from drake_car.sim.convergence import classify
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state
 
-_EPS = 1e-9
+EPS = 1e-9  # times within this (s) are one (a window's, a level's, a chunk's)
 # A pair at full creep that did not break away: its reserve (the capacity its force left
 # unused, the smallest while at full creep) is settled when a halving moves it by at most
 # this fraction of itself: a factor of ten between the reserve and what a halving changes it
@@ -99,7 +99,7 @@ def quiet(runner, selected, dmax, hold_s):
     phase, creep = friction.phases(context), friction.creeps(context)
     now = runner.root.get_time()
     for i in selected:
-        if phase[i] != 0.0 or abs(creep[i]) >= dmax[i] * (1 - _EPS):
+        if phase[i] != 0.0 or abs(creep[i]) >= dmax[i] * (1 - EPS):
             return False
     return not any(int(row[1]) in selected and row[0] > now - hold_s
                    for row, _, _ in runner.events)
@@ -131,7 +131,7 @@ def extrema(runner, start_s):
     """{channel: [min, max]} of the ``WATCHED`` channels and each pair's μ1 that ``runner``
     logged after ``start_s`` (its window)."""
     history = logged_history(runner.built, runner.root)
-    keep = history["t"] > start_s + _EPS
+    keep = history["t"] > start_s + EPS
     names = [c for c in history if c in WATCHED
              or (c.startswith("friction_") and c.endswith("_mu1"))]
     return {c: [float(np.min(history[c][keep])), float(np.max(history[c][keep]))]
@@ -146,7 +146,7 @@ def spliced_history(history, spliced):
     t = history["t"]
     keep = np.ones(t.size, dtype=bool)
     for start, end, _ in spliced:
-        keep &= ~((t > start + _EPS) & (t <= end + _EPS))
+        keep &= ~((t > start + EPS) & (t <= end + EPS))
     parts = [{k: v[keep] for k, v in history.items()}] + [h for _, _, h in spliced]
     times = np.concatenate([p["t"] for p in parts])
     order = np.argsort(times, kind="stable")
@@ -185,7 +185,9 @@ def span(values):
 
 def record(settings, windows):
     """What a run's resolution did and cost (JSON-ready): its ``windows``' records."""
-    errors, solver = {}, {}  # a rest position carries every window's error before it: the sum
+    # A rest position carries every window's step error before it (their sum) and the solver
+    # error of the last (each the whole run's: the largest).
+    errors, solver = {}, {}
     for w in windows:
         for pair, error in w["position_errors"].items():
             errors[pair] = errors.get(pair, 0.0) + error
@@ -201,4 +203,4 @@ def record(settings, windows):
             "cpu_s": sum(w["cpu_s"] for w in windows),
             # of it, the solver twins'
             "solver_cpu_s": sum((w.get("solver_twin") or {}).get("cpu_s", 0.0)
-                                for w in windows)}
+                                + w["merged"].get("solver_cpu_s", 0.0) for w in windows)}

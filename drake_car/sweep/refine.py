@@ -35,7 +35,9 @@ import dataclasses
 import math
 import time
 
+from drake_car.law.checks import ParameterError
 from drake_car.sim.convergence import classify
+from drake_car.systems.sap_ballast import MAX_FACTOR
 
 
 def halved(scene, halvings=1):
@@ -44,9 +46,23 @@ def halved(scene, halvings=1):
     return at_time_step(scene, scene.plant.time_step / 2 ** halvings)
 
 
+
+
+def check_twin(scene, factor=2.0):
+    """Refuses (``ParameterError``) a scene whose solver twin, at ``factor`` times its SAP
+    tolerance factor, would run beyond the ballast's ``MAX_FACTOR``."""
+    value = scene.simulator.sap_tolerance_factor
+    if value * factor > MAX_FACTOR:
+        raise ParameterError("simulator.sap_tolerance_factor", value,
+                             f"must be <= {MAX_FACTOR / factor:g} for the error budget's "
+                             f"solver twin (it runs at {factor:g} times it; the SAP ballast is "
+                             f"sized for {MAX_FACTOR:g}), or leave the solver axis out")
+
+
 def loosened(scene, factor=2.0):
     """``scene`` with SAP's relative tolerance loosened by ``factor`` (the solver axis' twin;
-    ``scene.scene.Simulator.sap_tolerance_factor``)."""
+    ``scene.scene.Simulator.sap_tolerance_factor``); refused beyond the ballast's range."""
+    check_twin(scene, factor)
     simulator = dataclasses.replace(
         scene.simulator, sap_tolerance_factor=scene.simulator.sap_tolerance_factor * factor)
     return dataclasses.replace(scene, simulator=simulator)

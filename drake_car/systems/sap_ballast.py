@@ -32,6 +32,8 @@ from pydrake.systems.primitives import MatrixGain
 # (sim.monitor: 500 m/s) up to the scene's largest factor, 100, at 100 km/h (340 m/s; at F = 2
 # and 60 km/h, 3.5 m/s).
 BALLAST_MASS_KG = 1.0e5
+# The largest factor it is sized for (a scene's, and a solver twin's at twice a scene's).
+MAX_FACTOR = 100.0
 
 
 def add_sap_ballast(plant):

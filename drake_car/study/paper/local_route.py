@@ -8,7 +8,8 @@ A locally resolved run's outcomes are its own values at its step, with the windo
 steps where its struts slipped. Each window says the error of the rods' rest positions at its
 end (per strut: its convergence error, plus what it inherits from the last window and from the
 gap before it: ``sim.resolve``); a rest position carries the errors of every window before it
-(their sum, ``errors_between``). Carried to each outcome by when it is taken and how it is made
+(their sum, ``errors_between``; on the solver axis the largest of the windows' solver errors,
+each the whole run's up to its end). Carried to each outcome by when it is taken and how it is made
 of the rods' positions (``local_rows``): a rod's position at place a takes the windows before
 the lane change, at place b all of them; a shift (b less a) and the left-right change (its
 two shifts) take both; the return (a rod's travel from the end of the speed-up to the lane
@@ -30,7 +31,7 @@ from drake_car.sim.convergence import classify
 from drake_car.study.paper.claims import RETURN_BLEND_S, study_columns
 from drake_car.study.paper.outcomes import (
     DRIVES, TOLERANCES, outcomes_of_runs, study_outcomes, tolerances)
-from drake_car.sweep.refine import refine
+from drake_car.sweep.refine import check_twin, refine
 
 @dataclasses.dataclass
 class Accurate:
@@ -94,9 +95,12 @@ def finest_run(levels: dict, name):
 def resolved_scenes(scenes: dict, finest_step_s=ResolveEvents.finest_step_s,
                     solver_twin=True):
     """name -> scene, those with dry friction resolving every slip of their struts
-    (``ResolveEvents`` down to ``finest_step_s``, each window's solver twin with
-    ``solver_twin``); the others as they are."""
+    (``ResolveEvents`` down to ``finest_step_s``, with the solver twin with ``solver_twin``:
+    refused where it cannot run, ``sweep.refine.check_twin``); the others as they are."""
     settings = ResolveEvents(finest_step_s=finest_step_s, solver_twin=solver_twin)
+    for scene in scenes.values():
+        if solver_twin and _dry(scene):
+            check_twin(scene)
     return {name: dataclasses.replace(s, simulator=dataclasses.replace(
         s.simulator, resolve_events=settings)) if _dry(s) else s
         for name, s in scenes.items()}
@@ -108,7 +112,7 @@ def _dry(scene):
 
 def errors_between(run, start_s=-math.inf, end_s=math.inf, axis="position_errors"):
     """side -> the error of the strut's rest positions (m) from ``run``'s windows that reach
-    into (``start_s``, ``end_s``): their sum; None when the run resolved no window.
+    into (``start_s``, ``end_s``); None when the run resolved no window.
     ``axis``: "position_errors" (the step's: convergence, inheritance, gaps) or
     "solver_errors" (the solver twin's: each window's is the whole run's up to its end, so the
     largest of them)."""
@@ -256,13 +260,13 @@ def _carried(outcome, subject, value, values, runs, names, boundaries, axis):
             return abs(value / lr) * error if lr else None
         return error
     if outcome == "return_m":
+        if axis == "solver_errors":  # a difference of the run's solver error up to two times
+            return 2.0 * max(errors_between(runs[names[0]], end_s=t3, axis=axis).values())
         during = errors_between(runs[names[0]], t2 - RETURN_BLEND_S, t3, axis=axis)
         if any(during.values()):
             return 2.0 * max(during.values())
-        # No window in the return: the creep band it can move in while static (the step's
-        # axis); the solver's is not measured there (no twin between windows).
-        return (2.0 * runs[names[0]].scene.friction.law.dmax_translation_m
-                if axis == "position_errors" else None)
+        # No window in the return: the creep band it can move in while static.
+        return 2.0 * runs[names[0]].scene.friction.law.dmax_translation_m
     if outcome == "mirror_residual_m":
         return sum(max(e.values()) for e in at_b)
     return None
@@ -326,7 +330,8 @@ def error_method(refinement):
                              "windows (each gap at the run's step, each window at its "
                              "resolving level) with SAP's tolerance loosened twice, and how "
                              "far the rods' rest positions at a window's end lie from the "
-                             "run's is the run's solver error up to there"
+                             "run's is the run's solver error up to there (the largest is "
+                             "carried)"
                              if local else "")) if refinement.get("solver_axis", True)
                        else " (no solver axis: --no_solver_axis)") + ". A "
         "maximum over runs is taken over each run's own value, its error the largest of "

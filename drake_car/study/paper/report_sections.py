@@ -68,8 +68,8 @@ def numbers_table(s):
         for r in rows:
             threshold = threshold_text(r) if r["relation"] is not None else "-"
             axis = " (solver)" if r.get("limited_by") == "solver" else ""
-            # Not converged: the spread of the last three steps (global), the windows' summed
-            # error (local, whose windows' own spreads are in it).
+            # Not converged: the spread of the last three steps (global); the windows' budget
+            # (local: their step errors summed, whose own spreads are in them, plus the solver's).
             budget = quantity(r["error"], r["unit"]) if r["error"] is not None else ""
             unconverged = (f"±{budget} from the windows" if r.get("route") == "local"
                            else f"span {budget}")
