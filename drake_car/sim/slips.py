@@ -23,8 +23,9 @@ class SlipRunner(Runner):
 
     def __init__(self, built, *, resolve=None, make_level=None, selects=lambda name: True,
                  **runner_options):
-        """``resolve``: a ``ResolveEvents`` or None; ``make_level(step_s)``: a runner of the same
-        simulation at another step (a window's level, ``sim.resolve``); ``selects(name)``:
+        """``resolve``: a ``ResolveEvents`` or None; ``make_level(step_s, solver_factor=1.0)``: a
+        runner of the same simulation at another step (a window's level, ``sim.resolve``; SAP's
+        tolerance loosened by ``solver_factor`` for the solver twin); ``selects(name)``:
         whether a friction pair (by name) is resolved."""
         super().__init__(built, **runner_options)
         self.events, self.event_count, self.events_lost, self.last_rows = [], 0, 0, []

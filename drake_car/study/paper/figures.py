@@ -231,7 +231,8 @@ def load_split(study, timeline, path, outcomes=None):
     "practically zero" band) and of the front split Fz_fl - Fz_fr in % of the corner load (a
     scale on which 1 % is plain). With ``outcomes`` (``outcomes.csv``'s rows) the bars are each
     run's value at the finest step it tried, with its converged error (or, not converged, the
-    span of its last steps) as an error bar and its values at every step as markers; without,
+    span of its last steps, or its windows' error where resolved locally; the solver's added)
+    as an error bar and its values at every step as markers; without,
     the runs' values at their own step."""
     names = sorted(study)
     h1 = run_of(study, "a", _numbers(study)[0]).columns
@@ -285,8 +286,9 @@ def load_split(study, timeline, path, outcomes=None):
         for ax, outcome, scale in ((rods, "lr_change_m", 1e3), (load, "split_change", 100)):
             for k, n in enumerate(names):
                 row = outcomes[(n, outcome)]
-                if row["error"] is not None:
-                    ax.errorbar(x[k], scale * row["value"], yerr=scale * row["error"],
+                if row["error"] is not None:  # the whole budget: the step's and the solver's
+                    budget = row["error"] + (row.get("solver_error") or 0.0)
+                    ax.errorbar(x[k], scale * row["value"], yerr=scale * budget,
                                 color="k" if row["converged"] else "tab:red", capsize=4,
                                 lw=1.2)
                 ax.plot([x[k]] * len(row["values"]), scale * np.asarray(row["values"]), "kx",
@@ -295,7 +297,8 @@ def load_split(study, timeline, path, outcomes=None):
                     plt.Line2D([], [], color="k", lw=1.2),
                     plt.Line2D([], [], color="tab:red", lw=1.2)]
         labels += ["each step tried (outcomes.csv)", "converged: ± its error",
-                   "not converged: the span of its last steps"]
+                   "not converged: ± the span of its last steps\n(resolved locally: of "
+                   "its windows)"]
     rods.legend(handles, labels, title="friction set (bars: steady,\nwindow averages)",
                 **OUTSIDE)
     rods.set_title("Claim 3: lasting left-right change from place a to place b", pad=10)
