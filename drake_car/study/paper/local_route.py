@@ -373,8 +373,9 @@ def resolution_section(refinement):
                      f"{'-' if finest is None else f'{1e3 * finest:g} ms'} | {shown} | "
                      f"{r['cpu_s']:.1f} s ({r.get('resolution_cpu_s', 0.0):.1f} s) |")
     return lines + ["", "Global: the whole run repeated at halved steps (the CPU of every step "
-                    "tried); local: its events' windows resolved at halved steps; the job's "
-                    f"CPU time in all: {refinement.get('job_cpu_s', math.nan):.0f} s "
+                    "tried); local: its events' windows resolved at halved steps. A b run's row "
+                    "has the prefix it takes over from its a run (run once), so the rows sum to "
+                    f"more than the job's CPU: {refinement.get('job_cpu_s', math.nan):.0f} s "
                     "(summary.json's cpu_s).", ""]
 
 
