@@ -84,11 +84,11 @@ def main():
                    help="a global-route main job's folder (outcomes.csv, summary.json) "
                         "instead of running the global route")
     args = p.parse_args()
+    if args.repeats < 1:
+        p.error("--repeats must be >= 1")
     extra = ["--scene_text", args.scene_text] if args.scene_text else []
     routes = ["no_verify", "local", "local_no_solver"] + ([] if args.reference else ["global"])
     args.out.mkdir(parents=True, exist_ok=True)
-    if args.repeats < 1:
-        p.error("--repeats must be >= 1")
     if not args.no_warm_up:
         run_job("no_verify", args.out / "warm_up", extra)
     cpu = {r: [] for r in routes}
