@@ -103,7 +103,7 @@ def main():
                                          for r in routes[1:]), flush=True)
     median = {r: statistics.median(v) for r, v in cpu.items()}
     ratios = {r: statistics.median(a / b for a, b in zip(cpu[r], cpu["no_verify"]))
-              for r in routes}
+              for r in routes[1:]}
     reference = args.reference or args.out / "global_0"
     if args.reference:
         median["global"] = json.loads((reference / "summary.json").read_text())["cpu_s"]
