@@ -75,8 +75,10 @@ def test_the_local_and_the_global_route_agree_within_their_errors(name):
     assert rows and not [r for r in rows if r[1] == "count"], rows
     assert all(r[7] for r in rows), [r for r in rows if not r[7]]
     assert all(all(c) for c in reference["converged"].values()), reference["converged"]
-    # The errors are the routes' own, not zero: the local one from its windows.
-    assert all(np.all(e > 0) for e in local["errors"].values()), local["errors"]
+    # The errors are the routes' own, not zero (nor unknown: a twin that changed a branch,
+    # sim.twins): the local one from its windows.
+    assert all(np.all(e > 0) and np.all(np.isfinite(e)) for e in local["errors"].values()), \
+        local["errors"]
     if name == "belt":
         # A period's error: each slip start's 2 P / V, P the windows' summed position errors
         # before it, each window's of the order of Δmax (measured: 2-6 Δmax / V over the 4

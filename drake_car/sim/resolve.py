@@ -51,9 +51,17 @@ window ended within ``lookback_s`` before, the two are resolved as one window (`
 left strut at 7.86 s broke away or not by what a 0.25 ms window before it left, 1.55 mm apart,
 until the windows from 7.10 s were resolved as one, down to 0.0625 ms). The gap before the
 window went at the run's step: gap and window are run again at level 1 from the gap's start,
-and twice the move against the window's level 1 is the gap's error (first order). A window's error (per pair) is
-its rest position's (the convergence rule's; the span of its last three levels where it did not
-converge) plus both; a run's, their sum over its windows. Each level records the extremes of
+and twice the move against the window's level 1 is the gap's error (first order). Both twins
+also judge the branch (``sim.twins._branches``): where a twin's level took the branch of the
+level the window hands back and the twin changes it (another count of slips, or a reserve at
+full creep moved by more than ``SETTLED`` of itself), a rest position's move is no measure of
+the error: the pair's error is unknown (infinite, ``branch_changed`` in the record), and the
+inheritance twin's merges the window with the last one as above (a_3 with a tolerance of 2e-4
+m: its right strut kept 3.8e-4 of its capacity at 7.85 s from a 0.25 ms window's end and did not
+break away, 3.5 mm from where the default's run rests, with a stated error of 40 µm). A
+window's error (per pair) is its rest position's (the convergence rule's; the span of its last
+three levels where it did not converge, unknown where they leave a strut at full creep with a
+reserve not settled: ``window.unsettled``) plus both; a run's, their sum over its windows. Each level records the extremes of
 the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error. The
 solver axis (``_solver``, with ``solver_twin``): the run again with SAP's tolerance loosened
 twice along its own windows (each gap at the run's step, each window at its resolving level,
@@ -76,7 +84,7 @@ import numpy as np
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
 from drake_car.sim.window import (
     EPS, Checkpoint, Outcome, extrema, judge, quiet, record, span, spliced_history, start_level,
-    summarise, window_record)
+    summarise, unsettled, window_record)
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state, state_values
 from drake_car.sim.twins import Twins
@@ -120,6 +128,7 @@ class Resolver(Twins):
         self.chain = []  # per window: its start checkpoint, the alternative before it, its end
         # Where the last window's solver twin ended (``_solver``), None before one.
         self.solver_after = None
+        self.branch_pairs = set()  # the current window's pairs whose branch a twin changed
 
     # -- called by the runner --------------------------------------------------------------
     def before_chunk(self):
@@ -199,7 +208,8 @@ class Resolver(Twins):
                 level = self.levels[outcomes[-2].level]
                 coarser = Checkpoint(outcomes[-1].end_s, state_values(level.built, level.root),
                                      level.monitor.snapshot(), 0)
-            inherited = self._inherited(outcomes, end_s)
+            self.branch_pairs = set()  # pairs whose branch a twin changed (``sim.twins``)
+            inherited = self._inherited(outcomes, checkpoint, end_s)
             previous = self.chain[-1] if self.chain else None
             if (previous is not None
                     and any(e > self.tolerance[i] for i, e in inherited.items())
@@ -221,9 +231,11 @@ class Resolver(Twins):
                 continue
             break
         resolved = errors is not None
-        if not resolved:  # the span of the last three levels' rest positions
+        if not resolved:  # the span of the last three levels' rest positions: the error where
+            # they do not converge, unknown where they leave a strut undecided (``unsettled``)
             errors = {i: span([o.positions[i] for o in outcomes[-3:]])
-                      if len(outcomes) > 1 else math.inf for i in self.selected}
+                      if len(outcomes) > 1 and not unsettled(outcomes, i) else math.inf
+                      for i in self.selected}
         chosen = outcomes[-1]
         self.chain.append({"checkpoint": checkpoint, "alternative": self.alternative,
                            "after_last": self.after_last, "solver_after": self.solver_after,
@@ -241,6 +253,7 @@ class Resolver(Twins):
             self.names, checkpoint, chosen, trigger, outcomes, resolved=resolved, errors=errors,
             inherited=inherited, gap=gap, merged=merged, solver=solver,
             solver_extrema=solver_extrema, solver_cost=solver_cost,
+            branch_changed=sorted(self.branch_pairs),
             cpu_s=time.process_time() - began_cpu + merged["cpu_s"]))
 
     def _levels(self, checkpoint, trigger, end_s):

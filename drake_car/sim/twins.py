@@ -3,14 +3,17 @@ alone do not: what it inherits from the last window (``_inherited``), the gap be
 the run's step (``_gap``), and SAP's tolerance (``_solver``, the solver axis). A mixin of
 ``sim.resolve.Resolver``, whose state (levels, checkpoints, the last window's end) they use."""
 
+import math
+
 from drake_car.sim.transfer import state_values
-from drake_car.sim.window import EPS, Checkpoint, Outcome, extrema, start_level
+from drake_car.sim.window import (
+    EPS, Checkpoint, Outcome, extrema, one_branch, recount, same_branch, start_level)
 
 
 class Twins:
     """The twins' methods of a ``sim.resolve.Resolver`` (see the module)."""
 
-    def _inherited(self, outcomes, end_s):
+    def _inherited(self, outcomes, checkpoint, end_s):
         """{pair: the error this window inherits from the last one}: the window's start state
         is the last window's finest level's end state, whose own error the next coarser level's
         end state stands for (first order: their difference); the window's level 0 is run
@@ -19,7 +22,8 @@ class Twins:
         comes from the run's own step, every strut static since the start)."""
         if self.alternative is None:
             return {}
-        return self._twin(outcomes[0], self.alternative, end_s)
+        moved, twin = self._twin(outcomes[0], self.alternative, end_s, since_s=checkpoint.time_s)
+        return self._branches(moved, outcomes[0], twin, outcomes[-1], gain=1.0)
 
     def _gap(self, outcomes, checkpoint, end_s):
         """{pair: the error of the gap before this window}: the run went from the last window's
@@ -33,7 +37,28 @@ class Twins:
             return {}
         # The gap ran at h, the twin at h/2: at first order the gap's error at h is twice
         # their difference.
-        return {i: 2.0 * e for i, e in self._twin(outcomes[1], start, end_s).items()}
+        moved, twin = self._twin(outcomes[1], start, end_s, since_s=checkpoint.time_s)
+        return self._branches({i: 2.0 * e for i, e in moved.items()}, outcomes[1], twin,
+                              outcomes[-1], gain=2.0)
+
+    def _branches(self, moved, level, twin, chosen, gain):
+        """``moved`` with an infinite error for each pair whose branch ``twin`` changed
+        (``sim.window.same_branch``: its slips, or its reserve at full creep beyond
+        ``SETTLED``): the window then depends on the error the twin stands for by more than a
+        rest position's move shows (a_3 with ``position_tolerance_m`` 2e-4: its 7.81 s window
+        kept a reserve of 3.8e-4 at 1, 0.5 and 0.25 ms from the 7.10 s window's end and did not
+        break away, where the run resolved as one window from 7.10 s does, 3.5 mm apart). Only
+        where ``level`` (the twin's) took the branch of ``chosen`` (the level the window hands
+        back): a coarser level on another branch says nothing of how the chosen one's depends
+        on its start (a_3's lane change at 1 ms). The pairs are kept in ``self.branch_pairs``
+        for the window's record."""
+        for i in self.selected:
+            if not one_branch(chosen, level, i):
+                continue  # the twin's level is not on the chosen branch
+            if not same_branch(level, twin, i, gain):
+                moved[i] = math.inf
+                self.branch_pairs.add(i)
+        return moved
 
     def _solver(self, chosen, checkpoint, end_s):
         """The solver axis (with ``solver_twin``): the run again with SAP's tolerance loosened
@@ -71,15 +96,21 @@ class Twins:
                                                          solver_factor=2.0)
         return self.solver_levels[level]
 
-    def _twin(self, level, start, end_s, runner=None):
+    def _twin(self, level, start, end_s, runner=None, since_s=None):
         """{pair: how far its rest position at ``level``'s end moves} when ``level`` (an
         outcome) is run again from ``start`` (a Checkpoint) in its own Diagram (``runner``;
-        default: its level's); the twin's steps and CPU are counted to it."""
+        default: its level's); the twin's steps and CPU are counted to it. With ``since_s`` (the
+        window's start): (that, the twin's Outcome, its slips and sticks counted from then on,
+        as the level's are)."""
         twin = Outcome(level.level, level.step_s, start.time_s, {}, {}, {}, [])
         runner = runner or self._level_runner(level.level)
         start_level(runner, start)
         self._advance(runner, twin, end_s, until_quiet=False, to_s=level.end_s)
         level.cpu_s += twin.cpu_s
         level.steps += twin.steps
-        return {i: abs(twin.positions[i] - level.positions[i]) for i in self.selected}
+        moved = {i: abs(twin.positions[i] - level.positions[i]) for i in self.selected}
+        if since_s is None:
+            return moved
+        recount(twin, self.selected, since_s)
+        return moved, twin
 

@@ -75,6 +75,16 @@ def summarise(runner, outcome, selected):
                               else None)
 
 
+def recount(outcome, selected, since_s):
+    """``outcome``'s slips and sticks of each ``selected`` pair counted after ``since_s`` only
+    (a twin that started before its window: the gap's events are not the window's)."""
+    for i in selected:
+        rows = [row for row, _, _ in outcome.events
+                if int(row[1]) == i and row[0] > since_s + EPS]
+        outcome.counts[i] = (int(sum(row[2] == BREAK_AWAY for row in rows)),
+                             int(sum(row[2] == STICK for row in rows)))
+
+
 def start_level(runner, checkpoint):
     """``runner`` (a level's) set to ``checkpoint``'s state, its logs and events emptied."""
     set_state(runner.built, runner.simulator, checkpoint.values)
@@ -105,6 +115,46 @@ def quiet(runner, selected, dmax, hold_s):
                    for row, _, _ in runner.events)
 
 
+def settled(before, after):
+    """Whether a pair's reserve at full creep moved from ``before`` to ``after`` (each None
+    where the pair did not reach full creep) by at most ``SETTLED`` of itself: both None, or a
+    positive ``after`` that ``before`` lies within ``SETTLED`` of."""
+    if (before is None) != (after is None):
+        return False
+    return after is None or (after > 0 and abs(before - after) <= SETTLED * after)
+
+
+def one_branch(a, b, i):
+    """Whether Outcomes ``a`` and ``b`` took one branch for pair ``i``: the same slips and
+    sticks, and both at full creep at the end or neither."""
+    return a.counts[i] == b.counts[i] and (a.margins[i] is None) == (b.margins[i] is None)
+
+
+def same_branch(level, twin, i, gain=1.0):
+    """Whether ``twin`` (an Outcome: ``level`` run again from a perturbed start) took pair
+    ``i``'s branch: the same slips and sticks, and its reserve at full creep settled against
+    the perturbation (its move times ``gain``: what the perturbation stands for, at first
+    order). A window whose branch a twin changes depends on an error the twin stands for: a
+    rest position near it is no measure of that error (``sim.twins``)."""
+    if not one_branch(level, twin, i):
+        return False
+    a, b = twin.margins[i], level.margins[i]
+    if a is not None and b is not None:
+        a = b + gain * (a - b)
+    return settled(a, b)
+
+
+def unsettled(outcomes, i):
+    """Whether a window that did not resolve ends with pair ``i`` undecided by its last
+    levels: at full creep with a reserve that is not settled (gone, or still moving), or their
+    slips and sticks differing. Its rest position's span then says nothing of the other branch
+    (``sim.resolve``)."""
+    last = outcomes[-3:]
+    if len({o.counts[i] for o in last}) != 1:
+        return False  # the span covers both branches
+    return len(last) > 1 and not settled(last[-2].margins[i], last[-1].margins[i])
+
+
 def judge(outcomes, selected, tolerance):
     """Whether the last three levels of a window resolve it (``sim.resolve``): {pair: the
     error of its rest position}, or None; ``selected``: the pairs judged, ``tolerance``: pair ->
@@ -118,8 +168,7 @@ def judge(outcomes, selected, tolerance):
             return None
         if len({o.margins[i] is None for o in last}) != 1:
             return None
-        a, b = last[-2].margins[i], last[-1].margins[i]
-        if b is not None and not (b > 0 and abs(a - b) <= SETTLED * b):
+        if not settled(last[-2].margins[i], last[-1].margins[i]):
             return None
         found = classify([o.positions[i] for o in last], tolerance[i])
         if not found["converged"]:
@@ -154,7 +203,8 @@ def spliced_history(history, spliced):
 
 
 def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, errors, inherited,
-                  gap, merged, cpu_s, solver=None, solver_extrema=None, solver_cost=None):
+                  gap, merged, cpu_s, solver=None, solver_extrema=None, solver_cost=None,
+                  branch_changed=()):
     """A window's record (JSON-ready; ``sim.resolve``): ``names`` the friction's pair names,
     ``chosen`` the level it hands back, the errors per pair index."""
     def by_name(values):
@@ -166,6 +216,9 @@ def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, err
         "resolved": resolved, "step_s": chosen.step_s,
         "position_errors": by_name(errors), "inherited_errors": by_name(inherited),
         "gap_errors": by_name(gap), "merged": merged,
+        # The pairs whose branch the inherited or the gap's twin changed (their error: None,
+        # unknown; ``sim.twins``).
+        "branch_changed": [names[i] for i in branch_changed],
         # The solver axis (``sim.twins``): the whole run's solver error at the window's end,
         # not part of position_errors.
         "solver_errors": by_name(solver or {}), "solver_extrema": solver_extrema or {},
