@@ -86,6 +86,26 @@ def test_a_twins_slips_are_counted_from_its_windows_start():
     assert twin.counts[0] == (1, 1), "the gap's slip is not the window's"
 
 
+def test_an_unknown_error_survives_run_json_and_the_report_says_unknown():
+    # A window whose branch its twins found unsettled has an infinite error (sim.twins); JSON
+    # has no infinity (results.files.plain writes null): a run read back has it infinite again,
+    # and the report writes "unknown", not a number.
+    import json
+    import math
+    from drake_car.results.files import json_text
+    from drake_car.results.record import with_unknown_errors
+    from drake_car.study.paper.local_route import local_error
+    window = {"start_s": 7.1, "position_errors": {"right_translation": math.inf},
+              "inherited_errors": {"right_translation": math.inf}, "gap_errors": {},
+              "solver_errors": {"right_translation": 1e-6}, "branch_changed": ["right"]}
+    resolution = {"position_errors": {"right_translation": math.inf}, "windows": [window]}
+    written = json.loads(json_text(resolution))
+    assert written["position_errors"]["right_translation"] is None
+    assert with_unknown_errors(written) == resolution
+    row = {"error": math.inf, "converged": False, "finest_step_s": 6.25e-5}
+    assert local_error(row, "inf mm").startswith("unknown")
+
+
 def _run(rot_left, rot_right, windows):
     t = [0.0, 1.0, 2.0, 3.0]
     history = {"t": t, "rot_left_rad": rot_left, "rot_right_rad": rot_right,

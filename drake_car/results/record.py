@@ -7,6 +7,7 @@ refused (``refuse_pickles``): a results folder is shared, and a pickle runs code
 
 import hashlib
 import json
+import math
 from pathlib import Path
 
 from drake_car.results.files import parse_csv
@@ -44,12 +45,29 @@ def run_from_texts(texts, where="run", *, trusted=False):
                    steps=record["steps"], final=final, diagram_dot=texts["diagram.dot"],
                    replay_html=texts.get("replay.html"),
                    cpu_s=record.get("cpu_s", float("nan")), events=record.get("events"),
-                   resolution=record.get("resolution"))
+                   resolution=with_unknown_errors(record.get("resolution")))
     except SceneError as e:
         raise OutputError(str(e)) from None
     except (ValueError, KeyError, TypeError, IndexError) as e:
         raise OutputError(f"{where}: damaged run files ({type(e).__name__}: {e})"[:300]) \
             from None
+
+
+# A resolution's error maps (``sim.window.record``): an unknown error (a window whose branch
+# depends on what it cannot bound, ``sim.twins``) is infinite in memory and null in run.json.
+ERROR_MAPS = ("position_errors", "solver_errors", "inherited_errors", "gap_errors")
+
+
+def with_unknown_errors(resolution):
+    """``resolution`` (a run.json's) with each null of its error maps infinite again."""
+    def restored(record):
+        return record | {key: {pair: math.inf if e is None else e
+                               for pair, e in record[key].items()}
+                         for key in ERROR_MAPS if isinstance(record.get(key), dict)}
+    if not isinstance(resolution, dict):
+        return resolution
+    return restored(resolution) | {"windows": [restored(w) for w in
+                                               resolution.get("windows") or []]}
 
 
 def read_texts(folder, names=RUN_FILES + OPTIONAL_FILES):

@@ -226,10 +226,8 @@ class ResolveEvents:
     ``lead_s`` before its event, and before every slip of the pairs that ended within
     ``lookback_s`` before it; it ends once every pair has been static, short of its full creep,
     for ``hold_s``. ``solver_twin``: the budget's solver axis (``sim.twins``: the run again
-    along its windows with SAP's tolerance loosened twice). A tolerance above the default is
-    not a cheaper route to the same answer: at 2e-4 m a_2's return window takes three levels
-    that agree within 6 µm for converged, 500 µm from the branch finer steps take
-    (docs/accuracy.md, "A looser tolerance")."""
+    along its windows with SAP's tolerance loosened twice). A looser tolerance can take a wrong
+    branch for converged (a_2 at 2e-4 m: 500 µm; docs/accuracy.md)."""
 
     pairs: str = "translation"
     events: str = "all"

@@ -55,10 +55,12 @@ and twice the move against the window's level 1 is the gap's error (first order)
 also judge the branch (``sim.twins._branches``): where a twin's level took the branch of the
 level the window hands back and the twin changes it (another count of slips, or a reserve at
 full creep moved by more than ``SETTLED`` of itself), a rest position's move is no measure of
-the error: the pair's error is unknown (infinite, ``branch_changed`` in the record), and the
-inheritance twin's merges the window with the last one as above (a_3 with a tolerance of 2e-4
-m: its right strut kept 3.8e-4 of its capacity at 7.85 s from a 0.25 ms window's end and did not
-break away, 3.5 mm from where the default's run rests, with a stated error of 40 µm). A
+the error: the pair's error is unknown (infinite, ``branch_changed`` in the record), and where
+the inheritance twin finds that, the window is merged with the last one as above (a_3 with a
+tolerance of 2e-4 m: its right strut kept 3.9e-4, 3.7e-4, 3.8e-4 of its capacity at 7.85 s at
+1, 0.5, 0.25 ms from a 0.25 ms window's end and did not break away, 3.5 mm from where the
+default's run rests, with a stated error of 37 µm; the gap's twin's reserve move is doubled as
+its position's). A
 window's error (per pair) is its rest position's (the convergence rule's; the span of its last
 three levels where it did not converge, unknown where they leave a strut at full creep with a
 reserve not settled: ``window.unsettled``) plus both; a run's, their sum over its windows. Each level records the extremes of

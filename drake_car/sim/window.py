@@ -126,7 +126,8 @@ def settled(before, after):
 
 def one_branch(a, b, i):
     """Whether Outcomes ``a`` and ``b`` took one branch for pair ``i``: the same slips and
-    sticks, and both at full creep at the end or neither."""
+    sticks, and both or neither reached full creep in the phase they end static in (a reserve
+    in ``Outcome.margins``, or None)."""
     return a.counts[i] == b.counts[i] and (a.margins[i] is None) == (b.margins[i] is None)
 
 
@@ -139,6 +140,8 @@ def same_branch(level, twin, i, gain=1.0):
     if not one_branch(level, twin, i):
         return False
     a, b = twin.margins[i], level.margins[i]
+    if a == b:  # the twin moved nothing (a level at its brink, reserve 0, stays one)
+        return True
     if a is not None and b is not None:
         a = b + gain * (a - b)
     return settled(a, b)
@@ -146,9 +149,10 @@ def same_branch(level, twin, i, gain=1.0):
 
 def unsettled(outcomes, i):
     """Whether a window that did not resolve ends with pair ``i`` undecided by its last
-    levels: at full creep with a reserve that is not settled (gone, or still moving), or their
-    slips and sticks differing. Its rest position's span then says nothing of the other branch
-    (``sim.resolve``)."""
+    levels with the same slips and sticks: a reserve at full creep that is not settled (gone,
+    still moving, or reached at one level and not at the next). Its rest position's span then
+    says nothing of the other branch (``sim.resolve``); where their slips and sticks differ,
+    the span covers both branches."""
     last = outcomes[-3:]
     if len({o.counts[i] for o in last}) != 1:
         return False  # the span covers both branches
@@ -216,8 +220,8 @@ def window_record(names, checkpoint, chosen, trigger, outcomes, *, resolved, err
         "resolved": resolved, "step_s": chosen.step_s,
         "position_errors": by_name(errors), "inherited_errors": by_name(inherited),
         "gap_errors": by_name(gap), "merged": merged,
-        # The pairs whose branch the inherited or the gap's twin changed (their error: None,
-        # unknown; ``sim.twins``).
+        # The pairs whose branch the inherited or the gap's twin changed (their error unknown:
+        # infinite in memory, null in run.json; ``sim.twins``).
         "branch_changed": [names[i] for i in branch_changed],
         # The solver axis (``sim.twins``): the whole run's solver error at the window's end,
         # not part of position_errors.

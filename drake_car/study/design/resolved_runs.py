@@ -138,8 +138,8 @@ def apply(rows, study, noise, resolved):
 def _split_error(row):
     """The lasting split's error from the rods' rest positions' (see the module), or None."""
     errors = [row.get(f"rest_error_{s}_{p}_m", math.nan) for s in SIDES for p in "ab"]
-    if not row.get("windows") or not all(math.isfinite(e) for e in errors):
-        return None
+    if not row.get("windows") or any(math.isnan(e) for e in errors):
+        return None  # (an infinite one, a window's branch unknown, is carried)
     change = ((row["dd_left_b_m"] - row["dd_right_b_m"])
               - (row["dd_left_a_m"] - row["dd_right_a_m"]))
     if not (math.isfinite(change) and change != 0.0):

@@ -85,8 +85,7 @@ def finest_run(levels: dict, name):
     name -> Run), the study's CSVs and figures drawn from it; the replay page, made at the
     scene's own step only, carried over from there."""
     steps = [k for k in levels if isinstance(k, int) and name in levels[k]]
-    finest = levels[max(steps)][name]
-    first = levels[min(steps)][name]
+    finest, first = levels[max(steps)][name], levels[min(steps)][name]
     if finest.replay_html is None and first.replay_html is not None:
         finest = dataclasses.replace(finest, replay_html=first.replay_html)
     return finest
@@ -119,7 +118,7 @@ def errors_between(run, start_s=-math.inf, end_s=math.inf, axis="position_errors
     resolution = run.resolution or {}
     if not resolution.get("window_count"):
         return None
-    out = {side: 0.0 for side in SIDES}
+    out = dict.fromkeys(SIDES, 0.0)
     for w in resolution["windows"]:
         if w["end_s"] > start_s and w["start_s"] < end_s:
             for side in SIDES:
@@ -138,8 +137,7 @@ PEAKS = {"rotation_rad": ("rot_{}_rad", False), "peak_dd_m": ("d_{}_m", True),
 def _peak_at(run, outcome):
     """Where ``run`` reaches peak ``outcome``: (its channel's name pattern, the side, the time,
     the value it is taken from, its scale, the windows holding that time)."""
-    channel, from_start = PEAKS[outcome]
-    history = run.history
+    (channel, from_start), history = PEAKS[outcome], run.history
     sides = [outcome.rsplit("_", 1)[1]] if outcome.startswith("mu1_") else SIDES
     scale = run.scene.friction.law.mu_s if outcome.startswith("mu1_") else 1.0
     best = None
@@ -175,8 +173,8 @@ def peak_error(run, outcome, tolerance):
     found = classify(series, tolerance)
     error = found["error"]
     if outcome == "peak_dd_m":  # where the rod started the window, and what it inherits
-        pair = f"{side}_translation"
-        error += (before - w["position_errors"][pair] + w["inherited_errors"].get(pair, 0.0)
+        pair, earlier = f"{side}_translation", errors_between(run, end_s=w["start_s"])[side]
+        error += (earlier + w["inherited_errors"].get(pair, 0.0)
                   + w.get("gap_errors", {}).get(pair, 0.0))
     return error, found["converged"] and w["resolved"]
 
@@ -349,6 +347,8 @@ def local_error(row, shown):
     if row["error"] is None:
         return (f"not estimated by the local route ({where}; a force at rest, or a peak "
                 "between windows)")
+    if not math.isfinite(row["error"]):  # a window's branch its twins found unsettled
+        return f"unknown: a window's branch depends on what it cannot bound ({where})"
     if not row["converged"]:
         return f"±{shown} from the windows, not converged ({where})"
     return f"±{shown} ({where})"
