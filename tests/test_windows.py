@@ -5,7 +5,7 @@ import types
 
 import pytest
 
-from drake_car.sim.window import Outcome, judge, one_branch, recount, same_branch, unsettled
+from drake_car.sim.window import Outcome, judge, one_branch, same_branch, unsettled
 from drake_car.study.paper.local_route import local_rows, peak_error, peak_solver_error
 
 TOLERANCE = {0: 2e-5}  # the default ResolveEvents.position_tolerance_m
@@ -75,15 +75,6 @@ def test_a_window_that_ends_with_a_strut_at_its_brink_has_no_error_from_its_span
     assert not unsettled(branches, 0), "the span covers both branches"
     converging = _levels([10.1e-3] * 3, [(0, 0)] * 3, [5.2e-4, 5.1e-4, 5.05e-4])
     assert not unsettled(converging, 0)
-
-
-def test_a_twins_slips_are_counted_from_its_windows_start():
-    from drake_car.law.friction.events import BREAK_AWAY, STICK
-    twin = _levels([1e-3])[0]
-    twin.events = [((0.5, 0, BREAK_AWAY), 1e-3, -1), ((0.6, 0, STICK), 1e-3, -1),
-                   ((1.2, 0, BREAK_AWAY), 1e-3, -1), ((1.3, 0, STICK), 1e-3, -1)]
-    recount(twin, [0], since_s=1.0)
-    assert twin.counts[0] == (1, 1), "the gap's slip is not the window's"
 
 
 def test_an_unknown_error_survives_run_json_and_the_report_says_unknown():

@@ -60,13 +60,12 @@ the inheritance twin finds that, the window is merged with the last one as above
 tolerance of 2e-4 m: its right strut kept 3.9e-4, 3.7e-4, 3.8e-4 of its capacity at 7.85 s at
 1, 0.5, 0.25 ms from a 0.25 ms window's end and did not break away, 3.5 mm from where the
 default's run rests, with a stated error of 37 µm; the gap's twin's reserve move is doubled as
-its position's). A
-window's error (per pair) is its rest position's (the convergence rule's; the span of its last
-three levels where it did not converge, unknown where they leave a strut at full creep with a
-reserve not settled: ``window.unsettled``) plus both; a run's, their sum over its windows. Each level records the extremes of
-the rods' positions and rotations and of μ1 in the window (``extrema``): a peak's error. The
-solver axis (``_solver``, with ``solver_twin``): the run again with SAP's tolerance loosened
-twice along its own windows (each gap at the run's step, each window at its resolving level,
+its position's). A window's error (per pair) is its rest position's (the convergence rule's;
+the span of its last three levels where it did not converge, unknown where they leave a strut
+at full creep with a reserve not settled: ``window.unsettled``) plus both; a run's, their sum
+over its windows. Each level records the extremes of the rods' positions and rotations and
+of μ1 in the window (``extrema``): a peak's error. The solver axis (``_solver``, with
+``solver_twin``): the run again with SAP's tolerance loosened twice along its own windows (each gap at the run's step, each window at its resolving level,
 from where the last window's twin ended); how far each rest position at a window's end lies
 from the run's is recorded apart (``solver_errors``: the whole run's solver error up to there,
 not a window's share).

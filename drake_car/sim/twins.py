@@ -7,7 +7,7 @@ import math
 
 from drake_car.sim.transfer import state_values
 from drake_car.sim.window import (
-    EPS, Checkpoint, Outcome, extrema, one_branch, recount, same_branch, start_level)
+    EPS, Checkpoint, Outcome, extrema, one_branch, same_branch, start_level)
 
 
 class Twins:
@@ -107,16 +107,15 @@ class Twins:
         runner = runner or self._level_runner(level.level)
         start_level(runner, start)
         if since_s is not None and start.time_s < since_s - EPS:
-            # To the window's start (the gap), where the level's reserve was first taken too.
+            # Through the gap to the window's start, where the level's slips and reserve were
+            # first taken too: the gap's are not the window's.
             self._advance(runner, twin, end_s, until_quiet=False, to_s=since_s)
             friction = runner.built.friction
             friction.reset_peaks(friction.GetMyMutableContextFromRoot(runner.root))
+            runner.events = []
         self._advance(runner, twin, end_s, until_quiet=False, to_s=level.end_s)
         level.cpu_s += twin.cpu_s
         level.steps += twin.steps
         moved = {i: abs(twin.positions[i] - level.positions[i]) for i in self.selected}
-        if since_s is None:
-            return moved
-        recount(twin, self.selected, since_s)
-        return moved, twin
+        return moved if since_s is None else (moved, twin)
 

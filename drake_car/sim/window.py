@@ -75,16 +75,6 @@ def summarise(runner, outcome, selected):
                               else None)
 
 
-def recount(outcome, selected, since_s):
-    """``outcome``'s slips and sticks of each ``selected`` pair counted after ``since_s`` only
-    (a twin that started before its window: the gap's events are not the window's)."""
-    for i in selected:
-        rows = [row for row, _, _ in outcome.events
-                if int(row[1]) == i and row[0] > since_s + EPS]
-        outcome.counts[i] = (int(sum(row[2] == BREAK_AWAY for row in rows)),
-                             int(sum(row[2] == STICK for row in rows)))
-
-
 def start_level(runner, checkpoint):
     """``runner`` (a level's) set to ``checkpoint``'s state, its logs and events emptied."""
     set_state(runner.built, runner.simulator, checkpoint.values)
@@ -140,11 +130,9 @@ def same_branch(level, twin, i, gain=1.0):
     if not one_branch(level, twin, i):
         return False
     a, b = twin.margins[i], level.margins[i]
-    if a == b:  # the twin moved nothing (a level at its brink, reserve 0, stays one)
+    if a == b:  # neither reached full creep, or the twin moved nothing (a reserve 0 too)
         return True
-    if a is not None and b is not None:
-        a = b + gain * (a - b)
-    return settled(a, b)
+    return settled(b + gain * (a - b), b)
 
 
 def unsettled(outcomes, i):
