@@ -100,6 +100,14 @@ def test_a_resolved_row_carries_its_windows_error_and_says_what_they_do_not_cove
                                                                     split_tolerance=5e-5))
     again = resolved_runs.apply([dict(windows)], tight, noise, {"map0_001"})[0]
     assert again["split_change_rel_converged"] == "no"
+    # A window whose branch its twins found unsettled (sim.twins: an infinite rest error)
+    # leaves the split's error unknown, not the noise sample's, and the report says so.
+    unknown = resolved_runs.apply([dict(windows, rest_error_left_b_m=math.inf)], study, noise,
+                                  {"map0_001"})[0]
+    assert unknown["split_change_rel_error"] == math.inf
+    assert unknown["split_change_rel_error_from"] == "windows"
+    assert unknown["split_change_rel_converged"] == "no"
+    assert resolved_runs._error(math.inf).startswith("error unknown")
 
 
 def test_the_route_s_summary_counts_equal_runs_once_and_says_what_the_windows_cost():

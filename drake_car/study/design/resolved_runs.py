@@ -135,6 +135,12 @@ def apply(rows, study, noise, resolved):
     return rows
 
 
+def _error(error):
+    """A lasting split's error as the report writes it: unknown where a window's twins found
+    its branch unsettled (``sim.twins``; infinite)."""
+    return f"± {100 * error:.2f} %" if math.isfinite(error) else "error unknown: a window's branch"
+
+
 def _split_error(row):
     """The lasting split's error from the rods' rest positions' (see the module), or None."""
     errors = [row.get(f"rest_error_{s}_{p}_m", math.nan) for s in SIDES for p in "ab"]
@@ -226,8 +232,8 @@ def report_lines(acc):
         lines += [f"The lasting split did not converge within "
                   f"{100 * acc['tolerances']['split_change_rel']:g} % in "
                   f"{len(acc['not_converged'])} resolved runs: "
-                  + ", ".join(f"{u['name']} ({100 * u['value']:+.2f} ± "
-                              f"{100 * u['error']:.2f} %)" for u in acc["not_converged"]), ""]
+                  + ", ".join(f"{u['name']} ({100 * u['value']:+.2f} %, {_error(u['error'])})"
+                              for u in acc["not_converged"]), ""]
     if acc["no_window"]:
         lines += [f"Resolved runs that opened no window (no strut slipped; their "
                   f"error is the noise sample's): {', '.join(acc['no_window'])}.", ""]
