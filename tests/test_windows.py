@@ -5,7 +5,8 @@ import types
 
 import pytest
 
-from drake_car.sim.window import Outcome, judge, one_branch, same_branch, unsettled
+from drake_car.sim.window import (
+    Outcome, agreement_band, judge, one_branch, same_branch, unsettled)
 from drake_car.study.paper.local_route import local_rows, peak_error, peak_solver_error
 
 TOLERANCE = {0: 2e-5}  # the default ResolveEvents.position_tolerance_m
@@ -31,6 +32,23 @@ def test_a_window_resolves_when_its_rest_position_converges_not_when_it_merely_a
     assert judge(levels[:5], [0], TOLERANCE) is None
     errors = judge(levels, [0], TOLERANCE)
     assert errors == {0: pytest.approx(max(2.9e-6, 5.5e-6 / 2))}
+
+
+def test_a_looser_tolerance_does_not_widen_what_counts_as_agreeing():
+    # The same window with position_tolerance_m 2e-4 (issue 32): 3.3 and 5.5 µm apart is within
+    # a tenth of 2e-4 m, and the run handed back 6.4789 mm as converged, 500 µm from where
+    # 0.125 ms and finer rest. The agreement band stays a tenth of the default 2e-5 m.
+    mm = [6.4769e-3, 6.4736e-3, 6.4791e-3, 5.9707e-3, 5.9762e-3, 5.9791e-3]
+    levels = _levels(mm, [(3, 3)] * 3 + [(2, 2)] * 3)
+    loose = {0: 2e-4}
+    assert judge(levels[:3], [0], loose) is not None, "a tenth of 2e-4 m: the old band"
+    band = {0: agreement_band(2e-4, TOLERANCE[0])}
+    assert band[0] == pytest.approx(2e-6)
+    assert judge(levels[:3], [0], loose, band) is None, "agreeing within 5.5 µm is not 2 µm"
+    errors = judge(levels, [0], loose, band)
+    assert errors == {0: pytest.approx(max(2.9e-6, 5.5e-6 / 2))}, "the finest three converge"
+    # A tighter tolerance (the rig's: the law's creep limit, 5 µm) keeps a tenth of its own.
+    assert agreement_band(5e-6, TOLERANCE[0]) == pytest.approx(5e-7)
 
 
 def test_a_full_creep_whose_reserve_still_shrinks_is_not_resolved():

@@ -226,8 +226,8 @@ class ResolveEvents:
     ``lead_s`` before its event, and before every slip of the pairs that ended within
     ``lookback_s`` before it; it ends once every pair has been static, short of its full creep,
     for ``hold_s``. ``solver_twin``: the budget's solver axis (``sim.twins``: the run again
-    along its windows with SAP's tolerance loosened twice). A looser tolerance can take a wrong
-    branch for converged (a_2 at 2e-4 m: 500 µm; docs/accuracy.md)."""
+    along its windows with SAP's tolerance loosened twice). A looser tolerance loosens the
+    error, not what counts as agreeing (``sim.window.agreement_band``; docs/accuracy.md)."""
 
     pairs: str = "translation"
     events: str = "all"

@@ -9,9 +9,10 @@ by two agreeing steps, 6.7 / 5.0 / 5.0, from passing as exact); it has converged
 error is within the tolerance and the differences shrink as a scheme of order p makes them
 shrink (d2 <= 1.5 · 2^-p · d1: the slack for a ratio measured on two differences), or both
 differences are below a tenth of the tolerance (three steps agree where there is nothing left
-to shrink, e.g. a count), or both are within ``floor`` (the solver's own error: the step has
-taken it as far as the solver lets it). The observed order is log2(d1/d2). Otherwise it has not
-converged, and its error is the span of the last three values. Two steps alone cannot tell
+to shrink, e.g. a count; a window's rest positions: ``sim.window.agreement_band``), or both
+are within ``floor`` (the solver's own error: the step has taken it as far as the solver lets
+it). The observed order is log2(d1/d2). Otherwise it has not converged, and its error is the
+span of the last three values. Two steps alone cannot tell
 "converged" from "both on the same wrong branch" of a stick-slip outcome, hence three."""
 
 import math
@@ -20,9 +21,10 @@ SLACK = 1.5  # of the expected ratio 2^-p between successive differences
 NOISE = 0.1  # of the tolerance: differences this small need not shrink
 
 
-def classify(values, tolerance, order=1, floor=0.0):
+def classify(values, tolerance, order=1, floor=0.0, noise=None):
     """Convergence of a number from its ``values`` at successive halvings of the step (see the
-    module); ``floor``: its solver error, below which differences need not shrink.
+    module); ``floor``: its solver error, below which differences need not shrink; ``noise``:
+    the band below which they need not shrink either (None: ``NOISE`` of the tolerance).
     Returns {"converged", "value" (the finest), "error", "observed_order" (None when not
     measurable)}."""
     values = [float(v) for v in values]
@@ -34,7 +36,8 @@ def classify(values, tolerance, order=1, floor=0.0):
     d1, d2 = abs(x0 - x1), abs(x1 - x2)
     observed = math.log2(d1 / d2) if d1 > 0 and d2 > 0 else None
     shrinks = d2 <= SLACK * 2.0 ** -order * d1
-    quiet = max(d1, d2) <= max(NOISE * tolerance, floor)
+    band = NOISE * tolerance if noise is None else noise
+    quiet = max(d1, d2) <= max(band, floor)
     # The finest value's error: d2, but no less than d1 shrunk once at the scheme's order. A
     # last difference far below that (6.7, 5.0, 5.0: a branch jump, then two steps on the new
     # branch) is not the scheme's error shrinking: two values on a branch are not three.

@@ -84,8 +84,8 @@ import numpy as np
 
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
 from drake_car.sim.window import (
-    EPS, Checkpoint, Outcome, extrema, judge, quiet, record, span, spliced_history, start_level,
-    summarise, unsettled, window_record)
+    EPS, Checkpoint, Outcome, agreement_band, extrema, judge, quiet, record, span,
+    spliced_history, start_level, summarise, unsettled, window_record)
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state, state_values
 from drake_car.sim.twins import Twins
@@ -111,8 +111,12 @@ class Resolver(Twins):
         kinds = friction.pair_kinds()
         self.selected = [i for i, name in enumerate(self.names) if selects(name)
                          and (self.settings.pairs == "all" or kinds[i] == "translation")]
-        self.tolerance = {i: (self.settings.position_tolerance_m if kinds[i] == "translation"
-                              else self.settings.angle_tolerance_rad) for i in self.selected}
+        def tolerance(s, kind):
+            return s.position_tolerance_m if kind == "translation" else s.angle_tolerance_rad
+        self.tolerance = {i: tolerance(settings, kinds[i]) for i in self.selected}
+        default = type(settings)()  # the default tolerances bound what counts as agreeing
+        self.band = {i: agreement_band(self.tolerance[i], tolerance(default, kinds[i]))
+                     for i in self.selected}
         self.dv = friction.threshold_velocities()
         self.dmax = friction.maximum_creeps()
         self.levels = {}  # level -> Runner of the scene at that step (built when first needed)
@@ -266,7 +270,7 @@ class Resolver(Twins):
         while True:
             outcomes.append(self._run_level(level, checkpoint, end_s, reach_s))
             self._common_end(outcomes, end_s)
-            errors = judge(outcomes, self.selected, self.tolerance)
+            errors = judge(outcomes, self.selected, self.tolerance, self.band)
             if errors is not None:
                 return outcomes, errors
             if self.step_s / 2 ** (level + 1) < s.finest_step_s * (1 - EPS):

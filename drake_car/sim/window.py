@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 
 from drake_car.law.friction.events import BREAK_AWAY, SATURATION, STICK
-from drake_car.sim.convergence import classify
+from drake_car.sim.convergence import NOISE, classify
 from drake_car.sim.simulation import logged_history
 from drake_car.sim.transfer import set_state
 
@@ -147,10 +147,21 @@ def unsettled(outcomes, i):
     return len(last) > 1 and not settled(last[-2].margins[i], last[-1].margins[i])
 
 
-def judge(outcomes, selected, tolerance):
+def agreement_band(tolerance, default):
+    """How closely a window's last three levels' rest positions may agree without shrinking
+    (``sim.convergence``'s quiet clause): a tenth of the ``tolerance``, but no more than a tenth
+    of the ``default`` one. A looser tolerance loosens the error a rest position may carry, not
+    what counts as agreeing: a_2 at 2e-4 m rests at 6.4769 / 6.4736 / 6.4791 mm at 1 / 0.5 /
+    0.25 ms (3.3 and 5.5 µm apart, within a tenth of 2e-4 m, not of the default 2e-5 m) and at
+    5.9707 mm from 0.125 ms on, one stop fewer (issue 32)."""
+    return NOISE * min(tolerance, default)
+
+
+def judge(outcomes, selected, tolerance, band=None):
     """Whether the last three levels of a window resolve it (``sim.resolve``): {pair: the
     error of its rest position}, or None; ``selected``: the pairs judged, ``tolerance``: pair ->
-    the tolerance of its rest position."""
+    the tolerance of its rest position, ``band``: pair -> its ``agreement_band`` (None: a tenth
+    of the tolerance)."""
     if len(outcomes) < 3:
         return None
     last = outcomes[-3:]
@@ -162,7 +173,8 @@ def judge(outcomes, selected, tolerance):
             return None
         if not settled(last[-2].margins[i], last[-1].margins[i]):
             return None
-        found = classify([o.positions[i] for o in last], tolerance[i])
+        found = classify([o.positions[i] for o in last], tolerance[i],
+                         noise=None if band is None else band[i])
         if not found["converged"]:
             return None
         errors[i] = found["error"]
