@@ -18,7 +18,6 @@ from drake_car.law.road.profiles import CosineBump
 from drake_car.scene.load import SceneError, scene_hash
 from drake_car.study.design import jam_cases
 from drake_car.study.design import answers as design_answers
-from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as design_runs
 from drake_car.study.design import smoke as design_smoke
 from drake_car.study.design import tables

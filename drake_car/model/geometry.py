@@ -159,7 +159,7 @@ def part_inertias(params: CarParameters):
         inertia = np.diag(np.asarray(moments, dtype=float))
         return inertia if rotation is None else rotation @ inertia @ rotation.T
 
-    m, f = params.mass, params.front
+    f = params.front
     inertias = [np.diag(PART_INERTIA_KGM2["steering_rack"])]
     for side in SIDES.values():
         p = front_corner_points(params, side)

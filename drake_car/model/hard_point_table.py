@@ -81,7 +81,7 @@ def hard_point_table(car: CarParameters, given=None, springs=None):
         add("point", label, getattr(p, name) - (0.0 if inner else shift),
             "m", "derived" if inner else point_kind,
             "in V, along the strut: guide_below_top_mount_m, + l" if inner else entered)
-    top, ball, wheel, lower = p.top_mount, p.ball_joint, p.wheel_centre, p.strut_lower_mount
+    top, ball, wheel = p.top_mount, p.ball_joint, p.wheel_centre
     rise = top[2] - ball[2]
     ground = ball - ball[2] / rise * (top - ball)
     at_wheel = ball + (wheel[2] - ball[2]) / rise * (top - ball)

@@ -16,7 +16,7 @@ and says which hard points a car file derived it from).
 
 from drake_car.law.checks import ParameterError
 from drake_car.model.corners import (
-    COG_HEIGHT_MIN_M, MIN_STATIC_STABILITY, RIDE_FREQUENCY_HZ, corner_sprung_mass_kg,
+    COG_HEIGHT_MIN_M, RIDE_FREQUENCY_HZ, corner_sprung_mass_kg,
     highest_cog_m, ride_frequency_hz, wheel_rate_range_Npm)
 from drake_car.model.geometry import centre_of_mass
 from drake_car.model.parameters import CarParameters

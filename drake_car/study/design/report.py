@@ -11,8 +11,7 @@ from drake_car.study.design.answers import line_values
 from drake_car.study.design.compare import compare_lines
 from drake_car.study.design.jam_cases import report_lines
 from drake_car.study.design.resolved_runs import report_lines as local_report_lines
-from drake_car.study.design.spec import car_value, factor, paper_value
-from drake_car.study.design.tables import map_grid
+from drake_car.study.design.spec import car_value, paper_value
 
 
 # How the noise of each outcome is written: (scale, unit).
