@@ -17,7 +17,7 @@ def provenance(**extra):
     (both None when the source is not in a git checkout: ``source_checkout``), time."""
     commit, dirty = source_checkout()
     info = {
-        "command": " ".join([Path(sys.argv[0]).name] + sys.argv[1:]),
+        "command": " ".join([_program(sys.argv[0])] + sys.argv[1:]),
         "git_commit": commit,
         "dirty": dirty,
         "drake_car": _installed_version("drake_car"),
@@ -31,6 +31,23 @@ def provenance(**extra):
     }
     info.update(extra)
     return info
+
+
+def _program(path):
+    """How the running program is called again: a console script by its name, a module run with
+    ``python -m`` (its file inside the ``drake_car`` package) as that, a script as it was given
+    (by its name where that was a full path)."""
+    path = Path(path)
+    if path.suffix != ".py":
+        return path.name
+    package = Path(__file__).resolve().parents[1]
+    try:
+        module = path.resolve().relative_to(package.parent).with_suffix("")
+    except ValueError:
+        module = None
+    if module is not None and module.parts[0] == package.name:
+        return "python -m " + ".".join(module.parts)
+    return "python " + (path.name if path.is_absolute() else str(path))
 
 
 @functools.lru_cache(maxsize=1)
