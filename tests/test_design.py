@@ -8,6 +8,7 @@ import json
 import math
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import numpy as np
@@ -225,6 +226,26 @@ def test_rows_carry_their_runs_own_errors_or_the_noise_sample_s():
     assert math.isnan(other["pull_deg_error"])  # no pull measured: no error either
 
 
+def test_the_refinement_s_cost_counts_each_distinct_run_once_in_its_loops():
+    # docs/findings/design.md's run: 832 distinct runs took 2140 s, their 695 refinement runs
+    # 5937 s, 3.77 x. Here: a row's run and its twin row count once, level 0 is the study's
+    # own run, two names of one halved scene count once, a failed row and "extra" not at all.
+    def run(key, cpu):
+        return types.SimpleNamespace(scene_hash=key, cpu_s=cpu)
+    rows = [{"hash": "a", "status": "ok", "run_cpu_s": 4.0},
+            {"hash": "a", "status": "ok", "run_cpu_s": 4.0},
+            {"hash": "b", "status": "ok", "run_cpu_s": 6.0},
+            {"hash": "c", "status": "failed", "run_cpu_s": math.nan}]
+    refined = types.SimpleNamespace(runs={
+        0: {"m1": run("a0", 4.0)}, 1: {"m1": run("a1", 8.0), "m2": run("a1", 8.0)},
+        2: {"m1": run("a2", 16.0)}, "extra": {"x": run("x", 99.0)}})
+    loops = jam_cases.loops_cpu_s(refined, rows)
+    assert loops == {"unrefined": 10.0, "refinement": 24.0}
+    assert "took 10 s of CPU and the refinement 24 s: the study with it 3.40 ×" in \
+        jam_cases._cost(loops)
+    assert jam_cases._cost(None) == "" and jam_cases._cost({"unrefined": 0.0}) == ""
+
+
 def test_a_map_s_boundary_is_drawn_no_finer_than_each_cell_s_error_and_names_open_cells():
     spec = dataclasses.replace(STUDY.maps[0], points=3)
     values = [0.5, 0.9, 2.0]  # % of the corner load, along μs; the threshold is 1 %
@@ -376,6 +397,9 @@ def test_design_study_quick_on_the_global_route(tmp_path):
     assert all(len(r["split_change_rel_values"].split(";")) >= 3 for r in refined)
     assert all(float(r["split_change_rel_step_s"]) <= float(r["step_s"]) / 4 for r in refined)
     assert summary["accuracy"]["runs"] == len(refined)
+    loops = summary["accuracy"]["loops_cpu_s"]  # the cost, in the runs' loops, reported
+    assert loops["unrefined"] > 0 and loops["refinement"] > 0, loops
+    assert "the study with it" in (out / "report.md").read_text()
 
 
 def test_the_study_runs_on_another_tyre_file_laid_over_its_base_scene():

@@ -129,7 +129,22 @@ def summary(refined, rows, study):
             "tolerances": tolerances(study), "finest_step_s": a.finest_step_s,
             "budget_s": a.budget_s, "runs": len(names), "by_part": by_part,
             "failed": list(refined.failed), "not_converged": unconverged,
-            "rounds": refined.rounds, "wall_s": refined.wall_s, "stopped": refined.stopped}
+            "rounds": refined.rounds, "wall_s": refined.wall_s, "stopped": refined.stopped,
+            "loops_cpu_s": loops_cpu_s(refined, rows)}
+
+
+def loops_cpu_s(refined, rows):
+    """The CPU of the runs' simulation loops (each run's ``cpu_s``, every distinct run once):
+    {"unrefined": the study's own runs (its table's, the noise sample's included), "refinement":
+    the jam cases' runs at the halved steps}."""
+    own = {}
+    for row in rows:
+        if row["status"] == "ok" and math.isfinite(row.get("run_cpu_s", math.nan)):
+            own[row["hash"]] = row["run_cpu_s"]
+    halved = {run.scene_hash: run.cpu_s for level, runs in refined.runs.items()
+              if isinstance(level, int) and level > 0 for run in runs.values()
+              if math.isfinite(run.cpu_s)}
+    return {"unrefined": sum(own.values()), "refinement": sum(halved.values())}
 
 
 def report_lines(acc, figures=""):
@@ -149,7 +164,8 @@ def report_lines(acc, figures=""):
              f"within {tol['pull_deg']:g} deg (rounds: {len(acc['rounds'])}, "
              f"{acc['wall_s'] / 60:.1f} min of wall; stopped: {acc['stopped']}). Their values "
              "in the maps, lines and mitigations are the finest step's, their errors their own "
-             f"(`{figures}table.csv`: `*_error`, `*_converged`, `*_values` at each step).", "",
+             f"(`{figures}table.csv`: `*_error`, `*_converged`, `*_values` at each step)."
+             + _cost(acc.get("loops_cpu_s")), "",
              "| part | runs | split converged / not | pull converged / not | finest step "
              "needed (runs) |", "|---|---|---|---|---|"]
     for role, p in acc["by_part"].items():
@@ -171,3 +187,13 @@ def report_lines(acc, figures=""):
     if acc["failed"]:
         lines += [f"Failed at some step (not refined further): {', '.join(acc['failed'])}.", ""]
     return lines
+
+
+def _cost(loops):
+    """What the refinement cost, in the runs' simulation loops (``loops_cpu_s``)."""
+    if not loops or not loops["unrefined"]:
+        return ""
+    ratio = (loops["unrefined"] + loops["refinement"]) / loops["unrefined"]
+    return (f" In the runs' simulation loops (each run's `cpu_s`, every distinct run once) the "
+            f"unrefined study took {loops['unrefined']:.0f} s of CPU and the refinement "
+            f"{loops['refinement']:.0f} s: the study with it {ratio:.2f} × the study without.")
