@@ -8,7 +8,12 @@ import math
 import pytest
 
 from conftest import paper_scene
+from drake_car.data import resource
 from drake_car.sim.simulate import simulate
+from drake_car.study.design import resolved_runs
+from drake_car.study.design import runs as design_runs
+from drake_car.study.design import smoke as design_smoke
+from drake_car.study.design.spec import load_study
 
 RESOLVE = "\nsimulator: {resolve_events: {%s}}"  # as the paper's job resolves its runs
 LOOSE = RESOLVE % "position_tolerance_m: 2.0e-4"
@@ -54,3 +59,21 @@ def test_a_looser_tolerance_keeps_a_2s_return_on_its_branch():
         y, reference_error = _rests(default)[pair]
         assert math.isfinite(error) and math.isfinite(reference_error), pair
         assert abs(x - y) <= error + reference_error, (pair, x, y, error, reference_error)
+
+
+@pytest.mark.slow
+def test_a_gap_whose_step_changes_a_branch_is_resolved_with_its_window():
+    # The design study's --quick Sobol point sobol_0000 (its local route, finest step 0.25 ms):
+    # the window from 1.07 s did not resolve, and the gap before it (0.39-1.07 s, run at 1 ms),
+    # run again at 0.5 ms, changed the left strut's slips: its error was unknown (infinite).
+    # The window is now run again from the gap's start, the gap resolved with it: every error
+    # is known (the span of its last three levels where it does not converge).
+    study = design_smoke.quick(load_study(resource("scenes/studies/design.yaml"), "study"))[0]
+    scene, _ = design_runs.sobol_scenes(study)["sobol_0000"]
+    windows = simulate(resolved_runs.resolving(study, scene)).resolution["windows"]
+    for w in windows:
+        assert all(math.isfinite(e) for e in w["position_errors"].values()), w["start_s"]
+    gaps = [k for k, w in enumerate(windows) if w["merged"]["gaps"]]
+    assert gaps, "the case this test is about: a gap's twin changed a branch"
+    for k in gaps:  # such a window starts where the last one ended (or at the run's start)
+        assert k == 0 or windows[k]["start_s"] == pytest.approx(windows[k - 1]["end_s"])

@@ -29,8 +29,10 @@ class Twins:
         """{pair: the error of the gap before this window}: the run went from the last window's
         end (or its first static moment) to this window's start at its own step; the gap and
         the window are run again at level 1 (half the step) from there, and each pair's rest
-        position's move against the window's level 1 is the gap's step error. Empty where the
-        window starts where the last one ended, or its level 1 is the one it hands back."""
+        position's move against the window's level 1 is the gap's step error (infinite where
+        the twin changed a branch: ``sim.resolve`` then runs the window from the gap's start).
+        Empty where the window starts where the last one ended, or has fewer than three
+        levels."""
         start = self.after_last
         if (start is None or checkpoint.time_s <= start.time_s + EPS
                 or len(outcomes) < 3):
