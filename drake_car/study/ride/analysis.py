@@ -20,7 +20,11 @@ rig would measure at the car's mean side load, the "friction force" of the rig m
 (Deubel et al.) the comfort is compared against.
 
 ``errors(coarse, fine)``: per outcome |coarse - fine|, the run against itself at half the step
-(logged at the same instants)."""
+(logged at the same instants).
+
+Whether the car held its speed over the analysed window (``held_speed``): every sample within
+``SPEED_TOLERANCE_KPH`` (1 km/h, the manoeuvres' own: ``scene.manoeuvre_targets``) of the asked
+speed; a run that did not is not the ride at that speed (flagged by ``report``)."""
 
 import math
 
@@ -28,6 +32,7 @@ import numpy as np
 from scipy import signal
 
 from drake_car.law.comfort.iso2631 import weighted_rms
+from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH
 
 OUTCOMES = ("aw_seat_mps2", "az_seat_rms_mps2", "roll_acc_rms_radps2", "pitch_acc_rms_radps2",
             "dlc_front", "dlc_rear", "stick_left", "stick_right", "friction_mean_N",
@@ -104,10 +109,20 @@ def window_speed_kph(history, start_s):
     return float(np.min(v)), float(np.max(v))
 
 
+def held_speed(row):
+    """Whether the run of ``row`` (``collect``) held its asked speed over the analysed window
+    within ``SPEED_TOLERANCE_KPH`` (False where its speed was not logged: not shown held)."""
+    low, high, asked = row["speed_min_kph"], row["speed_max_kph"], row["speed_kph"]
+    return (math.isfinite(low) and math.isfinite(high)
+            and max(abs(low - asked), abs(high - asked)) <= SPEED_TOLERANCE_KPH)
+
+
 def collect(runs_by_name, start_of):
     """Rows (dicts) of the coarse runs in ``runs_by_name`` (name -> Run) whose half-step twin
     (name + "_half") is there too: the run's cell (road_class, speed_kph, mu_s, strut), its
-    OUTCOMES and err_<outcome>. ``start_of(scene)``: the analysed window's start (s)."""
+    OUTCOMES and err_<outcome>, its launch (s), the speed range over its analysed window
+    (km/h) and whether it held its speed (``held_speed``). ``start_of(scene)``: the analysed
+    window's start (s)."""
     rows = []
     for name, run in runs_by_name.items():
         twin = runs_by_name.get(name + "_half")
@@ -120,6 +135,7 @@ def collect(runs_by_name, start_of):
         mu_d = 0.0 if scene.friction is None else scene.friction.law.mu_d
         low, high = window_speed_kph(run.history, start_of(scene))
         rows.append({"name": name, "road_class": parts[0],
+                     "launch_s": scene.manoeuvre.timeline.speed_up_s,
                      "speed_min_kph": low, "speed_max_kph": high,
                      "rig_friction_N": mu_d * coarse["normal_mean_N"],
                      "speed_kph": scene.manoeuvre.timeline.speed_kph,
@@ -127,4 +143,5 @@ def collect(runs_by_name, start_of):
                      "strut": parts[3] if len(parts) > 3 else "lubricated",
                      "wall_s": run.wall_s, "wall_half_s": twin.wall_s,
                      **coarse, **{f"err_{k}": v for k, v in errors(coarse, fine).items()}})
+        rows[-1]["held_speed"] = held_speed(rows[-1])
     return rows
