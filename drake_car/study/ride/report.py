@@ -263,7 +263,9 @@ def write_outputs(out, rows, runs, study, wall_s):
                         f"{'about linear' if linear else 'not linear'} (a_w against the rig "
                         f"friction force μd·N̄: slope {100 * b:.3f} m/s² per 100 N, R² {r2:.3f}, "
                         f"largest deviation from the line {100 * dev:.0f} % of the change; "
-                        f"numerical error of a_w ≤ {err:.1g} m/s²)")
+                        f"numerical error of a_w ≤ {err:.1g} m/s²)"
+                        + (" **OFF: not at constant speed**" if any(not r["held_speed"]
+                                                                   for r in sel) else ""))
     first = next(iter(runs.values()))
     scene, lubricated = first.scene, [r for r in runs.values() if r.scene.friction is None]
     car = car_facts(lubricated[0].scene if lubricated else scene)
