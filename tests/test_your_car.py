@@ -246,3 +246,26 @@ def test_the_design_study_on_the_user_s_car_calibrates_its_rack_once(engineer):
     assert abs(found["residual"]["shift_error_m"]) <= SHIFT_RESIDUAL_M
     text = " ".join(answers.method(adapted, words, base_car.shipped_profile()))
     assert "calibrated for this car" in text and "not for this one" not in text
+
+
+def test_a_car_file_named_as_a_shipped_one_is_refused_not_replaced_by_it(tmp_path, monkeypatch):
+    # A newcomer's cars/engineers_car.yaml in the working folder ran as the shipped engineer's
+    # car (1500 kg) with nothing said: the package's urdf/ was looked in first.
+    from pathlib import Path
+
+    from drake_car.scene.car_file import car_of_file
+    shipped = Path(str(resource("urdf/cars/engineers_car.yaml")))
+    mine = tmp_path / "cars" / "engineers_car.yaml"
+    mine.parent.mkdir()
+    mine.write_text(Path(str(resource("urdf/cars/bmw_320i.yaml"))).read_text())
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SceneError, match="car_file cars/engineers_car.yaml: names both a shipped "
+                                         "file .* give yours by its absolute path"):
+        car_of_file("cars/engineers_car.yaml")
+    assert car_of_file(str(mine)).mass.total_mass_kg != car_of_file(str(shipped)).mass.total_mass_kg
+    mine.write_bytes(shipped.read_bytes())  # the same file twice: no doubt which ran
+    assert car_of_file("cars/engineers_car.yaml").mass.total_mass_kg == \
+        car_of_file(str(shipped)).mass.total_mass_kg
+    with pytest.raises(SceneError, match="cars/vanagon.yaml: car file not found \\(looked in "
+                                         "the working folder"):
+        car_of_file("cars/vanagon.yaml")
