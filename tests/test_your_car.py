@@ -225,6 +225,19 @@ def test_the_design_study_keeps_the_shipped_car_s_manoeuvre_and_a_rack_the_user_
     assert words == [] and study.base.manoeuvre == given.base.manoeuvre  # run as given
 
 
+def test_the_paper_s_car_column_gives_the_paper_s_car_not_the_user_s(engineer):
+    # A newcomer's design report put their car's calibrated rack (6.557 mm) in "the paper's
+    # car" column: a factor without a value of its own fell back to the base scene's, theirs.
+    from drake_car.study.design.report import factor_rows
+    study = load_study(DESIGN, "study", scene=(engineer, "car"),
+                       scene_text="manoeuvre: !LaneChange {amplitude_m: 0.0066}")
+    rows = {r["key"]: r for r in factor_rows(study)}
+    shipped = load_study(DESIGN, "study").base.manoeuvre.amplitude_m
+    assert rows["manoeuvre.amplitude_m"]["car"] == 0.0066
+    assert rows["manoeuvre.amplitude_m"]["paper"] == shipped
+    assert rows["car.front.guide_length_l_m"]["paper"] == 0.14  # the paper's, as the spec gives
+
+
 @pytest.mark.slow
 def test_the_design_study_on_the_user_s_car_calibrates_its_rack_once(engineer):
     """The engineer's car (their 6 s launch stated) in the design study: the shipped Escort's

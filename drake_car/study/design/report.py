@@ -77,7 +77,8 @@ def report(s, figures=""):
     lines += ["## Factors and ranges", "", f"| factor | range | this car{paper} | why |",
               "|---|---|---|---|" + ("" if s.get("paper_car") else "---|")]
     for f in s["factors"]:
-        theirs = "" if s.get("paper_car") else f" {f['paper']:g} |"
+        theirs = ("" if s.get("paper_car") else " - |" if math.isnan(f["paper"])
+                  else f" {f['paper']:g} |")
         outside = "" if f["low"] <= f["car"] <= f["high"] else " (outside the range)"
         lines.append(f"| {f['label']} (`{f['key']}`) | {f['low']:g} ... {f['high']:g} | "
                      f"{f['car']:g}{outside} |{theirs} {f['reason']} |")

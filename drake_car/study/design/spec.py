@@ -232,8 +232,10 @@ def _check_rough_road(study, path):
 
 
 def paper_value(study, f: Factor):
-    """The factor's value for the paper's car (``paper``; NaN: the base scene's value)."""
-    if not math.isnan(f.paper):
+    """The factor's value for the paper's car (``paper``; NaN: the base scene's value where
+    the base is the paper's car, else not known: NaN. A user's car on the base scene has
+    its own values there, a launch and a rack adapted to it)."""
+    if not math.isnan(f.paper) or not is_paper_car(study):
         return f.paper
     return value_of(study.base, f.key)
 
