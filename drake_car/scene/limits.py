@@ -109,7 +109,8 @@ def _check_tyre_file(scene):
             f"is valid for wheel loads {tyre.FZMIN:g}..{tyre.FZMAX:g} N (FNOMIN "
             f"{tyre.FNOMIN:g} N); this car rests on about {wheel_N:.0f} N per wheel "
             f"({4 * wheel_N:.0f} N over four) and runs at about 0..{2 * wheel_N:.0f} N in a "
-            "lane change: a tyre for a heavier vehicle")
+            "lane change: a tyre for a "
+            + ("heavier" if wheel_N < tyre.FZMIN else "lighter") + " vehicle")
     note = combined_slip_note(tyre) if getattr(tyres, "combined_slip", False) else None
     if note and note not in _SAID:
         _SAID.add(note)
