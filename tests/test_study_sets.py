@@ -196,6 +196,22 @@ def test_a_tyre_file_without_a_combined_slip_fit_is_said_at_scene_load(caplog):
     assert not any("combined_slip" in r.getMessage() for r in caplog.records)
 
 
+def test_a_tyre_file_of_another_radius_than_the_car_s_is_said_at_scene_load(caplog):
+    # The Sedan file's R0 0.344 m on the shipped car (0.313 m): 9.9 %, each used somewhere.
+    from drake_car.scene import limits
+    limits._SAID.clear()
+    with caplog.at_level("WARNING", logger="drake_car"):
+        load_scene(scene_text=f"tyres: !MagicFormula {{tir_file: {SEDAN}}}")
+    said = [r.getMessage() for r in caplog.records if "UNLOADED_RADIUS" in r.getMessage()]
+    assert said and "UNLOADED_RADIUS 0.344 m, the car's tyre.unloaded_radius_m 0.313 m" in said[0]
+    caplog.clear()
+    with caplog.at_level("WARNING", logger="drake_car"):
+        load_scene(scene_text="{car: {tyre: {unloaded_radius_m: 0.344}}, tyres: !MagicFormula "
+                              f"{{tir_file: {SEDAN}}}}}")
+        load_scene()  # the shipped car on its shipped tyre: one radius
+    assert not any("UNLOADED_RADIUS" in r.getMessage() for r in caplog.records)
+
+
 # A user's two sets, the car's damper in both, on a lane change shortened 20 times.
 # A timeline shortened 20 times, the shipped Escort's rack as given (too short a lane change to
 # calibrate one for).
