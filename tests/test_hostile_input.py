@@ -168,6 +168,9 @@ CHECKED = [
      ("pressure_Pa = 1e+12 lies outside the file's PRESMIN..PRESMAX = 200000..400000 Pa",)),
     ("ride: a speed that is no number", ride_command.main,
      lambda t: RIDE + ["--speeds", "60,nan"], "--speeds = nan must lie in (0, 250] km/h"),
+    ("ride: a speed with its unit", ride_command.main,
+     lambda t: RIDE + ["--speeds", "60kph"], "--speeds = '60kph' must be a comma-separated "
+     "list of numbers in km/h"),
     ("ride: a negative speed", ride_command.main,
      lambda t: RIDE + ["--speeds", "-60"], "--speeds = -60.0 must lie in (0, 250] km/h"),
     ("ride: a speed beyond a passenger car's", ride_command.main,
