@@ -232,8 +232,7 @@ class HardPointCar:
         return self
 
 
-# No hard point of a road car lies this far from its file's origin (m): beyond, a unit slip.
-MAX_POINT_M = 10.0
+MAX_POINT_M = 10.0  # no road car's hard point lies this far from its file's origin (m)
 
 
 def _point_check(group, name):
