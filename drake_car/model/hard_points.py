@@ -244,9 +244,8 @@ def _point_check(group, name):
                 and math.isfinite(entry)):
             raise ParameterError(f"{name}[{i}]", entry, "must be a finite number")
         if abs(entry) > MAX_POINT_M:
-            raise ParameterError(f"{name}[{i}]", entry,
-                                 f"lies more than {MAX_POINT_M:g} m from the car file's origin: "
-                                 "a car's hard points are in m (given in mm?)")
+            raise ParameterError(f"{name}[{i}]", entry, f"lies more than {MAX_POINT_M:g} m "
+                                 "from the car file's origin: hard points are in m (in mm?)")
 
 
 def frame_shift_m(car: HardPointCar):
