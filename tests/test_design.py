@@ -19,6 +19,7 @@ from drake_car.law.road.profiles import CosineBump
 from drake_car.scene.load import SceneError, scene_hash
 from drake_car.study.design import jam_cases
 from drake_car.study.design import answers as design_answers
+from drake_car.study.design import report as design_report
 from drake_car.study.design import runs as design_runs
 from drake_car.study.design import smoke as design_smoke
 from drake_car.study.design import tables
@@ -112,6 +113,23 @@ def test_outcomes_of_a_synthetic_history():
     assert out["dd_left_b_m"] - out["dd_left_a_m"] == pytest.approx(0.002)
     assert out["stuck_left"] == 1.0 and 0.4 < out["stuck_right"] < 0.6
     assert math.isnan(out["pull_deg"])  # hands on: no pull
+    assert out["speed_a_kph"] == pytest.approx(3.6 * 16.7)
+
+
+def test_runs_that_did_not_reach_their_speed_are_counted_and_said():
+    # A newcomer's weaker car could not follow the speed-up line's 3 s launch: its lane change
+    # ran slower, and nothing said so. Within 1 km/h (scene.manoeuvre_targets) a run ran it.
+    rows = [{"name": n, "role": role, "status": "ok", "speed_a_kph": v}
+            for n, role, v in (("map0_000", "map", 60.4), ("line2_mu0_00", "line", 52.1),
+                               ("line2_mu0_01", "line", 58.7), ("sobol_0001", "sobol", 59.2))]
+    rows.append({"name": "x", "role": "map", "status": "failed", "speed_a_kph": math.nan})
+    m = tables.manoeuvre_summary(STUDY, rows)
+    assert (m["runs"], m["off"], m["off_by_role"]) == (4, 2, {"line": 2})
+    assert m["slowest"] == {"name": "line2_mu0_00", "speed_a_kph": 52.1}
+    text = "\n".join(design_report._manoeuvre_lines(m))
+    assert "2 of 4 runs did not reach 60 ± 1 km/h at place a" in text and "52.1 km/h" in text
+    m = tables.manoeuvre_summary(STUDY, rows[:1])
+    assert design_report._manoeuvre_lines(m)[0].startswith("Every run ran its manoeuvre's speed")
 
 
 def test_sobol_indices_of_a_known_function():

@@ -232,6 +232,10 @@ class HardPointCar:
         return self
 
 
+# No hard point of a road car lies this far from its file's origin (m): beyond, a unit slip.
+MAX_POINT_M = 10.0
+
+
 def _point_check(group, name):
     value = getattr(group, name)
     if not isinstance(value, list) or len(value) != 3:
@@ -240,6 +244,10 @@ def _point_check(group, name):
         if not (isinstance(entry, (int, float)) and not isinstance(entry, bool)
                 and math.isfinite(entry)):
             raise ParameterError(f"{name}[{i}]", entry, "must be a finite number")
+        if abs(entry) > MAX_POINT_M:
+            raise ParameterError(f"{name}[{i}]", entry,
+                                 f"lies more than {MAX_POINT_M:g} m from the car file's origin: "
+                                 "a car's hard points are in m (given in mm?)")
 
 
 def frame_shift_m(car: HardPointCar):
