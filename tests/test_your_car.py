@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from drake_car.data import resource
+from drake_car.law.errors import InputError
 from drake_car.scene.load import SceneError, load_scene
 from drake_car.study.design import analysis as design_analysis
 from drake_car.study.design import compare as design_compare
@@ -282,3 +283,10 @@ def test_a_car_file_named_as_a_shipped_one_is_refused_not_replaced_by_it(tmp_pat
     with pytest.raises(SceneError, match="cars/vanagon.yaml: car file not found \\(looked in "
                                          "the working folder"):
         car_of_file("cars/vanagon.yaml")
+    # The same for a tyre file, the shipped scene's default one included.
+    tyre = tmp_path / "tyres" / "pacejka2006_205_60R15.tir"
+    tyre.parent.mkdir()
+    tyre.write_text((Path(__file__).parent / "data" / "tyres" / "Sedan_Pac02Tire.tir").read_text())
+    with pytest.raises(InputError, match="tyres/pacejka2006_205_60R15.tir: names both a shipped "
+                                         "file .* move or rename the working folder's copy"):
+        load_scene()

@@ -122,8 +122,9 @@ def data_path(name):
     local = path.absolute()
     if packaged.is_file() and local.is_file() and not filecmp.cmp(packaged, local, shallow=False):
         raise DataFileError(
-            f"{name}: names both a shipped file ({packaged}) and another one in the working "
-            f"folder ({local}); give yours by its absolute path, or rename it")
+            f"{name}: names both a shipped file ({packaged}) and a different one in the "
+            f"working folder ({local}): which ran would depend on where the job starts; give "
+            "yours by its absolute path, or move or rename the working folder's copy")
     if packaged.exists() or not path.exists():
         return packaged
     return local

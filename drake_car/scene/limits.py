@@ -100,7 +100,7 @@ def wheel_load_at_rest_N(car):
 
 
 # A tyre file's unloaded radius this far (relative) from the car's is said once per pair
-# [EST]: 2 %, a tyre size step (205/60R15 0.313 m, 205/65R15 0.324 m) is 3.5 %.
+# [EST]: 2 %, a tyre size step (205/60R15 0.3135 m, 205/65R15 0.3238 m) is 3.3 %.
 RADIUS_NOTE = 0.02
 
 
@@ -122,7 +122,8 @@ def _check_tyre_file(scene):
         _SAID.add(radius)
         log.warning("tyres.tir_file %s: UNLOADED_RADIUS %.3f m, the car's tyre.unloaded_radius_m "
                     "%.3f m: the wheels are placed, driven and rolled on the car's; the Magic "
-                    "Formula's rolling-resistance and aligning moments take the file's", *radius)
+                    "Formula's rolling-resistance and aligning moments (and relaxation lengths "
+                    "taken from the file) take the file's", *radius)
     note = combined_slip_note(tyre) if getattr(tyres, "combined_slip", False) else None
     if note and note not in _SAID:
         _SAID.add(note)

@@ -35,7 +35,7 @@ def table(study, parts, sweep_dir):
                     "line": values.get("line", ""), "of": values.get("of", "")}
             run = load_run(sweep_dir, key)[1] if status == "ok" else None
             result = (outcomes(run.history, scene, study) if run is not None
-                      else {k: math.nan for k in (*OUTCOMES, "speed_a_kph")})
+                      else {k: math.nan for k in (*OUTCOMES, "speed_a_kph", "speed_asked_kph")})
             rows.append(row | result | resolution_fields(run))
     return rows
 
