@@ -210,6 +210,21 @@ def test_crosscheck_runs_in_our_signs():
         crosscheck.roll_model(p)["roll_gradient_deg_per_g"], rel=0.1)
 
 
+def test_a_car_of_commonroad_s_third_set_is_cross_checked_against_it():
+    """A newcomer's VW Vanagon (CommonRoad's set 3, its mass and front track) was told
+    CommonRoad had no parameter set of their car."""
+    import dataclasses
+
+    from drake_car.model.parameters import CarParameters
+    commonroad_or_skip()
+    p = crosscheck.parameters(3)
+    car = CarParameters()
+    car = dataclasses.replace(car, mass=dataclasses.replace(car.mass, total_mass_kg=float(p.m)),
+                              front=dataclasses.replace(car.front, track_m=float(p.T_f)))
+    assert crosscheck.parameter_set_of(car) == (3, "VW Vanagon")
+    assert crosscheck.parameter_set_of(CarParameters()) == (1, "Ford Escort")
+
+
 def test_understeer_reconciliation_columns_sum_to_each_gradient():
     rows = [{"key": k, "gradient_deg_per_g": v} for k, v in (
         ("load_transfer", 0.1), ("aligning", 0.3), ("camber", -0.01), ("drive_yaw", 0.05),

@@ -226,6 +226,9 @@ def _set(group, name, value):
      r"450"),
     ("the right corner's points", _set("front", "wheel_centre_m", [0.0, -0.695, 0.330]),
      "front.wheel_centre_m", r"left corner"),
+    ("a point in mm (a newcomer's: it was read as an impossible inertia)",
+     _set("front", "wheel_centre_m", [0.0, 787.1, 330.0]), "front.wheel_centre_m[1]",
+     r"787.1 .*more than 10 m from the car file's origin.*in mm\?"),
 ])
 def test_what_an_engineer_would_not_enter_is_refused_with_the_reason(tmp_path, label, change,
                                                                       key, reason):

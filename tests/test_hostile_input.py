@@ -75,7 +75,8 @@ def synthetic_loop():
     """A synthetic measured loop (the rig command's synthetic.csv as issue 30 took it, before
     issue 31 loaded the rig at the car's side load at rest: the car's strut at μs 0.3, μd 0.22,
     1000 N at the strut's lower mount, ±10 mm at 1 Hz, 1 ms samples, plus 10 N and 2 µm of
-    noise, seed 23): (t, stroke, force)."""
+    noise, seed 23): (t, stroke, force). Fitted with ``LOWER_MOUNT``, its side force's point
+    (the command's default is the top mount, where the rig's own loops apply it)."""
     from drake_car.law.friction.frd import StrutFrictionParameters
     from drake_car.model.parameters import CarParameters
     from drake_car.sim.rigs.strut import StrutRigOptions, simulate_strut_rig
@@ -87,6 +88,9 @@ def synthetic_loop():
     stroke = h["stroke_m"] + rng.normal(0.0, 2e-6, len(h["t"]))
     force = h["load_cell_N"] + rng.normal(0.0, 10.0, len(h["t"]))
     return h["t"], stroke, force
+
+
+LOWER_MOUNT = ["--side_force_point_below_top_m", "0.47"]  # the shipped strut's lower mount
 
 
 def loop_csv(tmp_path, *, stroke_scale=1.0, force=lambda f, v: f, time=True):
@@ -142,6 +146,10 @@ CHECKED = [
     ("scene: FZMIN equal to FZMAX", run_command.main,
      lambda t: tyre(tir(t, SEDAN, "FZMIN", "10125")),
      f"bad.tir:{line_of(SEDAN, 'FZMIN')}: FZMIN = 10125 must be below FZMAX = 10125"),
+    ("scene: a tyre for lighter cars (FZMAX below the wheel load)", run_command.main,
+     lambda t: tyre(tir(t, SEDAN, "FZMAX", "2000")), "a tyre for a lighter vehicle"),
+    ("scene: a tyre for heavier cars (FZMIN above the wheel load)", run_command.main,
+     lambda t: tyre(tir(t, SEDAN, "FZMIN", "5000")), "a tyre for a heavier vehicle"),
     ("tyre command: an unknown TYRESIDE", tyre_command.main,
      lambda t: ["--tir", tir(t, SEDAN, "TYRESIDE", "'MIDDLE'")],
      f"bad.tir:{line_of(SEDAN, 'TYRESIDE')}: TYRESIDE = 'MIDDLE' must be LEFT or RIGHT"),
@@ -164,6 +172,9 @@ CHECKED = [
      ("pressure_Pa = 1e+12 lies outside the file's PRESMIN..PRESMAX = 200000..400000 Pa",)),
     ("ride: a speed that is no number", ride_command.main,
      lambda t: RIDE + ["--speeds", "60,nan"], "--speeds = nan must lie in (0, 250] km/h"),
+    ("ride: a speed with its unit", ride_command.main,
+     lambda t: RIDE + ["--speeds", "60kph"], "--speeds = '60kph' must be a comma-separated "
+     "list of numbers in km/h"),
     ("ride: a negative speed", ride_command.main,
      lambda t: RIDE + ["--speeds", "-60"], "--speeds = -60.0 must lie in (0, 250] km/h"),
     ("ride: a speed beyond a passenger car's", ride_command.main,
@@ -197,8 +208,9 @@ CHECKED = [
                 "--frequency_hz", "1", "--side_force_N", "1000"],
      ("loop.csv: its stroke frequency is 0.100 Hz", "not --frequency_hz 1")),
     ("rig: a force beyond what μ <= 2 allows at the side load", rig_command.main,
-     lambda t: ["--measured", loop_csv(t), "--side_force_N", "100"],
-     ("loop.csv: the force reaches", "μ <= 2 allows at --side_force_N 100")),
+     lambda t: ["--measured", loop_csv(t), "--side_force_N", "100", *LOWER_MOUNT],
+     ("loop.csv: the force reaches", "μ <= 2 allows at --side_force_N 100 at the strut's "
+      "lower mount")),
     ("rig: a force of the opposite sign", rig_command.main,
      lambda t: ["--measured", loop_csv(t, force=lambda f, v: -f), "--side_force_N", "1000"],
      ("loop.csv: the force opposes the stroke's motion while sliding",)),
@@ -908,13 +920,13 @@ def test_a_measured_fit_of_the_right_loop_is_confident_and_of_a_gas_strut_flagge
     measured_fit.json, its line saying it is not a confident value."""
     path = loop_csv(tmp_path)
     cli.run_main(rig_command.main, ["--measured", str(path), "--side_force_N", "1000",
-                                    "--out", str(tmp_path / "right")])
+                                    *LOWER_MOUNT, "--out", str(tmp_path / "right")])
     fit = json.loads((tmp_path / "right" / "measured_fit.json").read_text())["fit"]
     assert abs(fit["mu_s"] - 0.30) <= fit["mu_s_ci95"] and fit["confident"], fit
     assert "(95 %)" in capsys.readouterr().out
     path = loop_csv(tmp_path, force=lambda f, v: f + 200.0)
     cli.run_main(rig_command.main, ["--measured", str(path), "--side_force_N", "1000",
-                                    "--out", str(tmp_path / "gas")])
+                                    *LOWER_MOUNT, "--out", str(tmp_path / "gas")])
     fit = json.loads((tmp_path / "gas" / "measured_fit.json").read_text())["fit"]
     captured = capsys.readouterr()
     assert not fit["confident"] and fit["warnings"], fit

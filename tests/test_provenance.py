@@ -14,7 +14,8 @@ def test_a_job_run_as_a_module_names_the_module_not_its_file():
         "python -m drake_car.commands.design"
     assert _program("/somewhere/.venv/bin/drake-car-design") == "drake-car-design"
     assert _program("experiments/design.py") == "python experiments/design.py"
-    assert _program("/elsewhere/drake_car/commands/design.py") == "python design.py", \
+    assert _program("/elsewhere/drake_car/commands/design.py") == \
+        "python /elsewhere/drake_car/commands/design.py", \
         "another copy of the package is not the one running"
 
 

@@ -27,6 +27,14 @@ def _rests(run):
     return {pair: (last[pair], r["position_errors"][pair]) for pair in last}
 
 
+def _rest_within_both_errors(loose, default):
+    """Each rod rests where the default tolerance's run's does, within both runs' errors."""
+    for pair, (x, error) in _rests(loose).items():
+        y, reference_error = _rests(default)[pair]
+        assert math.isfinite(error) and math.isfinite(reference_error), pair
+        assert abs(x - y) <= error + reference_error, (pair, x, y, error, reference_error)
+
+
 @pytest.mark.slow
 def test_a_looser_tolerance_keeps_a_3s_late_break_away():
     # a_3 (the paper's car, set 3): its right strut sits at full creep at 7.85 s with about
@@ -37,12 +45,8 @@ def test_a_looser_tolerance_keeps_a_3s_late_break_away():
     # inheritance twin (level 0 from the 7.10 s window's 0.5 ms end) moves that reserve: the
     # two windows are resolved as one, and the rods rest where the default run's do, within
     # both runs' errors (each the sum of its windows' convergence, inheritance and gap errors).
-    loose = simulate(paper_scene("a_3", LOOSE))
-    default = simulate(paper_scene("a_3", RESOLVE % ""))
-    for pair, (x, error) in _rests(loose).items():
-        y, reference_error = _rests(default)[pair]
-        assert math.isfinite(error) and math.isfinite(reference_error), pair
-        assert abs(x - y) <= error + reference_error, (pair, x, y, error, reference_error)
+    _rest_within_both_errors(simulate(paper_scene("a_3", LOOSE)),
+                             simulate(paper_scene("a_3", RESOLVE % "")))
 
 
 @pytest.mark.slow
@@ -55,10 +59,7 @@ def test_a_looser_tolerance_keeps_a_2s_return_on_its_branch():
     default = simulate(paper_scene("a_2", RESOLVE % ""))
     return_window = [w for w in loose.resolution["windows"] if w["start_s"] < 4.5 < w["end_s"]]
     assert return_window and return_window[0]["step_s"] < 0.25e-3, "resolved below 0.25 ms"
-    for pair, (x, error) in _rests(loose).items():
-        y, reference_error = _rests(default)[pair]
-        assert math.isfinite(error) and math.isfinite(reference_error), pair
-        assert abs(x - y) <= error + reference_error, (pair, x, y, error, reference_error)
+    _rest_within_both_errors(loose, default)
 
 
 @pytest.mark.slow

@@ -125,6 +125,22 @@ def test_a_dry_set_with_the_car_s_damper_is_not_said_to_have_no_damping():
     assert "μd = 0.15, no viscous damping" in paper
 
 
+def test_a_car_file_s_damper_replaced_by_the_sets_is_said():
+    """A car file laid over the paper's scenes (--scene_text "car_file: ..."): each set runs
+    with the set's damping (1250 N s/m lubricated, none dry), not the file's; the report says
+    so, not only "set 1: ... 1250 N s/m" (a newcomer's 2600 N s/m damper ran as 1250 and 0)."""
+    study = __import__("test_study").study_of()
+    scenes = {n: load_scene(base=paper_scene(n), scene_text="car_file: cars/bmw_320i.yaml")
+              for n in study}
+    s, text = report_of(study, scenes)
+    own = s["car_file_strut_damping_Nspm"]
+    assert own and own != 1250.0
+    assert f"the car file gives {own:g} N s/m of viscous damping in the strut; each set ran " \
+           "with its own damping" in text
+    _, shipped = report_of(study, {n: paper_scene(n) for n in study})
+    assert "the car file gives" not in shipped  # the paper's scenes name no car file
+
+
 def test_the_previous_car_section_only_for_the_paper_s_car():
     from drake_car.data import resource
     from drake_car.scene.load import load_scene_file
@@ -178,6 +194,22 @@ def test_a_tyre_file_without_a_combined_slip_fit_is_said_at_scene_load(caplog):
         load_scene(scene_text=f"tyres: !MagicFormula {{tir_file: {SEDAN}, "
                               "combined_slip: false}")
     assert not any("combined_slip" in r.getMessage() for r in caplog.records)
+
+
+def test_a_tyre_file_of_another_radius_than_the_car_s_is_said_at_scene_load(caplog):
+    # The Sedan file's R0 0.344 m on the shipped car (0.313 m): 9.9 %, each used somewhere.
+    from drake_car.scene import limits
+    limits._SAID.clear()
+    with caplog.at_level("WARNING", logger="drake_car"):
+        load_scene(scene_text=f"tyres: !MagicFormula {{tir_file: {SEDAN}}}")
+    said = [r.getMessage() for r in caplog.records if "UNLOADED_RADIUS" in r.getMessage()]
+    assert said and "UNLOADED_RADIUS 0.344 m, the car's tyre.unloaded_radius_m 0.313 m" in said[0]
+    caplog.clear()
+    with caplog.at_level("WARNING", logger="drake_car"):
+        load_scene(scene_text="{car: {tyre: {unloaded_radius_m: 0.344}}, tyres: !MagicFormula "
+                              f"{{tir_file: {SEDAN}}}}}")
+        load_scene()  # the shipped car on its shipped tyre: one radius
+    assert not any("UNLOADED_RADIUS" in r.getMessage() for r in caplog.records)
 
 
 # A user's two sets, the car's damper in both, on a lane change shortened 20 times.

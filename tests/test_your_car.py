@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from drake_car.data import resource
+from drake_car.law.errors import InputError
 from drake_car.scene.load import SceneError, load_scene
 from drake_car.study.design import analysis as design_analysis
 from drake_car.study.design import compare as design_compare
@@ -225,6 +226,19 @@ def test_the_design_study_keeps_the_shipped_car_s_manoeuvre_and_a_rack_the_user_
     assert words == [] and study.base.manoeuvre == given.base.manoeuvre  # run as given
 
 
+def test_the_paper_s_car_column_gives_the_paper_s_car_not_the_user_s(engineer):
+    # A newcomer's design report put their car's calibrated rack (6.557 mm) in "the paper's
+    # car" column: a factor without a value of its own fell back to the base scene's, theirs.
+    from drake_car.study.design.report import factor_rows
+    study = load_study(DESIGN, "study", scene=(engineer, "car"),
+                       scene_text="manoeuvre: !LaneChange {amplitude_m: 0.0066}")
+    rows = {r["key"]: r for r in factor_rows(study)}
+    shipped = load_study(DESIGN, "study").base.manoeuvre.amplitude_m
+    assert rows["manoeuvre.amplitude_m"]["car"] == 0.0066
+    assert rows["manoeuvre.amplitude_m"]["paper"] == shipped
+    assert rows["car.front.guide_length_l_m"]["paper"] == 0.14  # the paper's, as the spec gives
+
+
 @pytest.mark.slow
 def test_the_design_study_on_the_user_s_car_calibrates_its_rack_once(engineer):
     """The engineer's car (their 6 s launch stated) in the design study: the shipped Escort's
@@ -246,3 +260,33 @@ def test_the_design_study_on_the_user_s_car_calibrates_its_rack_once(engineer):
     assert abs(found["residual"]["shift_error_m"]) <= SHIFT_RESIDUAL_M
     text = " ".join(answers.method(adapted, words, base_car.shipped_profile()))
     assert "calibrated for this car" in text and "not for this one" not in text
+
+
+def test_a_car_file_named_as_a_shipped_one_is_refused_not_replaced_by_it(tmp_path, monkeypatch):
+    # A newcomer's cars/engineers_car.yaml in the working folder ran as the shipped engineer's
+    # car (1500 kg) with nothing said: the package's urdf/ was looked in first.
+    from pathlib import Path
+
+    from drake_car.scene.car_file import car_of_file
+    shipped = Path(str(resource("urdf/cars/engineers_car.yaml")))
+    mine = tmp_path / "cars" / "engineers_car.yaml"
+    mine.parent.mkdir()
+    mine.write_text(Path(str(resource("urdf/cars/bmw_320i.yaml"))).read_text())
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SceneError, match="car_file cars/engineers_car.yaml: names both a shipped "
+                                         "file .* give yours by its absolute path"):
+        car_of_file("cars/engineers_car.yaml")
+    assert car_of_file(str(mine)).mass.total_mass_kg != car_of_file(str(shipped)).mass.total_mass_kg
+    mine.write_bytes(shipped.read_bytes())  # the same file twice: no doubt which ran
+    assert car_of_file("cars/engineers_car.yaml").mass.total_mass_kg == \
+        car_of_file(str(shipped)).mass.total_mass_kg
+    with pytest.raises(SceneError, match="cars/vanagon.yaml: car file not found \\(looked in "
+                                         "the working folder"):
+        car_of_file("cars/vanagon.yaml")
+    # The same for a tyre file, the shipped scene's default one included.
+    tyre = tmp_path / "tyres" / "pacejka2006_205_60R15.tir"
+    tyre.parent.mkdir()
+    tyre.write_text((Path(__file__).parent / "data" / "tyres" / "Sedan_Pac02Tire.tir").read_text())
+    with pytest.raises(InputError, match="tyres/pacejka2006_205_60R15.tir: names both a shipped "
+                                         "file .* move or rename the working folder's copy"):
+        load_scene()

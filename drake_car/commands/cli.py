@@ -144,6 +144,12 @@ def number(name):
     return _checked(name, lambda v: abs(v) < float("inf"), "a finite number")
 
 
+def within(name, low, high, unit=""):
+    """A number in [low, high] (``unit`` said after the range)."""
+    return _checked(name, lambda v: low <= v <= high,
+                    f"in [{low:g}, {high:g}]{' ' + unit if unit else ''}")
+
+
 def count(text):
     """An option's whole number >= 1 (a count of workers, say)."""
     try:

@@ -44,11 +44,11 @@ class FinishedRun:
     wall_s: float
 
 
-def _list(text, kind, name):
+def _list(text, kind, name, what="values"):
     try:
         values = [kind(v) for v in text.split(",") if v]
     except ValueError:
-        raise ParameterError(name, text, "must be a comma-separated list") from None
+        raise ParameterError(name, text, f"must be a comma-separated list of {what}") from None
     if not values:
         raise ParameterError(name, text, "must name at least one value")
     return values
@@ -70,7 +70,7 @@ def main(argv=None):
     p.add_argument("--no_run", action="store_true", help="analyse the finished runs only")
     args = p.parse_args(argv)
     classes = _list(args.classes, str, "--classes")
-    speeds = _list(args.speeds, float, "--speeds")
+    speeds = _list(args.speeds, float, "--speeds", "numbers in km/h (e.g. 40,60,80)")
     struts = list(STRUTS) if args.strut == "both" else [args.strut]
     if any(s not in STRUTS for s in struts):
         raise ParameterError("--strut", args.strut, f"must be one of {', '.join(STRUTS)}, both")

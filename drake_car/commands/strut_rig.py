@@ -18,8 +18,10 @@ into DIR:
                    μd 0.22, at the car's side load at rest, plus noise) and the fit to it
   report.md        the car's strut at rest, every rig run's break-away and sliding, the fit
   measured_fit.json  with --measured CSV (columns stroke_m in m, force_N in N, optionally
-                   t_s; one row per sample) and the test's --side_force_N: the fit, whether
-                   it is a confident value, the test's options
+                   t_s; one row per sample), the test's --side_force_N and where it acts,
+                   --side_force_point_below_top_m (default 0: the top mount, where the rig's
+                   own loops and at_rest.json apply it): the fit, whether it is a confident
+                   value, where the side force acted, the test's options
 
 A measured loop is checked against the rig it claims to come from before it is fitted
 (study/rig/measured.py): a stroke beyond the strut's travel (a stroke in mm), a force beyond
@@ -33,6 +35,8 @@ Example:  drake-car-strut-rig --out results/strut_rig
           drake-car-strut-rig --out results/my_strut --scene my_car.yaml:settle
           drake-car-strut-rig --out results/fit --measured loop.csv --side_force_N 1500 \\
               --sample_period_s 0.001
+          drake-car-strut-rig --out results/fit --measured loop.csv --side_force_N 1000 \\
+              --side_force_point_below_top_m 0.47    # at the shipped strut's lower mount
 """
 
 import time
@@ -41,9 +45,12 @@ from drake_car.commands import cli
 from drake_car.results.files import write_csv, write_json, write_text
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
+from drake_car.sim.rigs.at_rest import SIDE_FORCE_POINT_BELOW_TOP_M
+from drake_car.sim.rigs.strut import MAX_SIDE_FORCE_POINT_BELOW_TOP_M
 from drake_car.study.rig.figures import plot_loops, plot_side_load
 from drake_car.study.rig.fit import fit_loop_file
 from drake_car.study.rig.loops import SYNTHETIC_NOISE, rig_study
+from drake_car.study.rig.measured import side_force_where
 from drake_car.study.rig.report import report
 
 
@@ -54,7 +61,16 @@ def main(argv=None):
     p.add_argument("--quick", action="store_true", help="three side loads, no variants")
     p.add_argument("--measured", default=None, help="a measured loop to fit (CSV)")
     p.add_argument("--side_force_N", type=cli.positive("side_force_N"), default=None,
-                   help="the measured test's side load (N); required with --measured")
+                   help="the measured test's side load (N), acting at "
+                        "--side_force_point_below_top_m; required with --measured")
+    p.add_argument("--side_force_point_below_top_m", default=None,
+                   type=cli.within("side_force_point_below_top_m", 0.0,
+                                   MAX_SIDE_FORCE_POINT_BELOW_TOP_M, "m"),
+                   help="where the measured test's side force acts on the strut axis, in m "
+                        f"below the top mount, in [0, {MAX_SIDE_FORCE_POINT_BELOW_TOP_M:g}] "
+                        f"(default {SIDE_FORCE_POINT_BELOW_TOP_M:g}: the top mount, where the "
+                        "rig's own loops and at_rest.json apply it; the strut's lower mount is "
+                        "the car's front.strut_lower_mount_below_top_m)")
     p.add_argument("--amplitude_m", type=cli.positive("amplitude_m"), default=None,
                    help="the test's stroke amplitude (default: the loop's; given: checked "
                         "against it)")
@@ -64,7 +80,8 @@ def main(argv=None):
                    help="the time between the loop's samples (default: its t_s column's; "
                         "required without one)")
     args = p.parse_args(argv)
-    loop_options = ("side_force_N", "amplitude_m", "frequency_hz", "sample_period_s")
+    loop_options = ("side_force_N", "side_force_point_below_top_m", "amplitude_m",
+                    "frequency_hz", "sample_period_s")
     if not args.measured and any(getattr(args, name) is not None for name in loop_options):
         p.error(f"--{next(n for n in loop_options if getattr(args, n) is not None)} describes "
                 "a --measured loop's test; without --measured the rig study runs its own")
@@ -73,13 +90,18 @@ def main(argv=None):
     car = scene.car
     start, cpu = time.time(), time.process_time()
     if args.measured:
+        point = args.side_force_point_below_top_m
         fit, options, notes = fit_loop_file(
-            car, args.measured, side_force_N=args.side_force_N, amplitude_m=args.amplitude_m,
-            frequency_hz=args.frequency_hz, sample_period_s=args.sample_period_s)
+            car, args.measured, side_force_N=args.side_force_N,
+            side_force_point_below_top_m=SIDE_FORCE_POINT_BELOW_TOP_M if point is None
+            else point, amplitude_m=args.amplitude_m, frequency_hz=args.frequency_hz,
+            sample_period_s=args.sample_period_s)
+        side_force = f"{options.side_force_N:g} N {side_force_where(car.front, options)}"
         with output_folder(args.out) as out:
             write_json(out / "measured_fit.json", provenance(
-                fit=fit.summary(), options=vars(options), taken_from_the_loop=notes))
-        print(fit.line())
+                side_force=side_force, fit=fit.summary(), options=vars(options),
+                taken_from_the_loop=notes))
+        print(f"side force {side_force}: {fit.line()}")
         return
     study = rig_study(scene, quick=args.quick)
     options, h, stroke, force, fit = study.synthetic
@@ -103,7 +125,8 @@ def main(argv=None):
             scene_name=scene.name, at_rest=rest, rows=study.rows, law=study.synthetic_law,
             fit=fit, runs=study.runs, prov=provenance()))
     print(f"the car's strut at rest: N = {rest['car_normal_N']:.1f} N; on the rig "
-          f"{rest['rig_side_force_N']:.1f} N at the top mount gives N = "
+          f"{rest['rig_side_force_N']:.1f} N "
+          f"{side_force_where(car.front, study.at_rest.rig_options())} gives N = "
           f"{rest['rig_normal_N']:.1f} N")
     print(f"synthetic loop (μs {study.synthetic_law.mu_s:g}, μd {study.synthetic_law.mu_d:g}): "
           f"fitted μs = {fit.mu_s:.4f} ± {fit.mu_s_ci95:.4f}, μd = {fit.mu_d:.4f} ± "

@@ -232,6 +232,9 @@ class HardPointCar:
         return self
 
 
+MAX_POINT_M = 10.0  # no road car's hard point lies this far from its file's origin (m)
+
+
 def _point_check(group, name):
     value = getattr(group, name)
     if not isinstance(value, list) or len(value) != 3:
@@ -240,6 +243,9 @@ def _point_check(group, name):
         if not (isinstance(entry, (int, float)) and not isinstance(entry, bool)
                 and math.isfinite(entry)):
             raise ParameterError(f"{name}[{i}]", entry, "must be a finite number")
+        if abs(entry) > MAX_POINT_M:
+            raise ParameterError(f"{name}[{i}]", entry, f"lies more than {MAX_POINT_M:g} m "
+                                 "from the car file's origin: hard points are in m (in mm?)")
 
 
 def frame_shift_m(car: HardPointCar):

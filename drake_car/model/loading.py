@@ -1,6 +1,7 @@
 """Loads the car's model file into a MultibodyPlant, with clear errors for bad files."""
 
 import dataclasses
+import filecmp
 import functools
 from pathlib import Path
 
@@ -22,6 +23,10 @@ REQUIRED_FRAMES = [
         "top_mount", "ball_joint_arm", "ball_joint_knuckle", "spring_upper_seat",
         "spring_lower_seat", "strut_lower_mount", "piston", "guide", "rear_spring_upper_seat",
         "rear_spring_lower_seat", "tie_rod_outer", "tie_rod_end")]
+
+
+class DataFileError(InputError):
+    """A relative name of a car's data file that names two different files."""
 
 
 class ModelFileError(InputError):
@@ -108,11 +113,24 @@ def data_path(name):
     """A file of the car's data (a tyre property file, a car file): an absolute path; or a path
     inside the package's ``urdf/`` data (``tyres/pacejka2006_205_60R15.tir``,
     ``cars/bmw_320i.yaml``); or, when no such data exists, a path relative to the working
-    folder (made absolute)."""
+    folder (made absolute). A relative name that is both, two different files, is refused
+    (DataFileError): which one ran would depend on where the job was started."""
     path = Path(name)
     if path.is_absolute():
         return path
     packaged = Path(str(resource("urdf").joinpath(name)))
+    local = path.absolute()
+    if packaged.is_file() and local.is_file() and not filecmp.cmp(packaged, local, shallow=False):
+        raise DataFileError(
+            f"{name}: names both a shipped file ({packaged}) and a different one in the "
+            f"working folder ({local}): which ran would depend on where the job starts; give "
+            "yours by its absolute path, or move or rename the working folder's copy")
     if packaged.exists() or not path.exists():
         return packaged
-    return path.absolute()
+    return local
+
+
+def where_data_is(name):
+    """Where ``data_path`` looked for a relative ``name`` (for a "not found")."""
+    return (f"looked in the working folder ({Path.cwd()}) and the shipped data "
+            f"({Path(str(resource('urdf')))})")

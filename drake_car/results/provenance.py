@@ -35,8 +35,8 @@ def provenance(**extra):
 
 def _program(path):
     """How the running program is called again: a console script by its name, a module run with
-    ``python -m`` (its file inside the ``drake_car`` package) as that, a script as it was given
-    (by its name where that was a full path)."""
+    ``python -m`` (its file inside the ``drake_car`` package) as that, a script as it was
+    given."""
     path = Path(path)
     if path.suffix != ".py":
         return path.name
@@ -47,7 +47,7 @@ def _program(path):
         module = None
     if module is not None and module.parts[0] == package.name:
         return "python -m " + ".".join(module.parts)
-    return "python " + (path.name if path.is_absolute() else str(path))
+    return f"python {path}"
 
 
 @functools.lru_cache(maxsize=1)

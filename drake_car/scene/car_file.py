@@ -21,12 +21,13 @@ import copy
 import dataclasses
 import functools
 import typing
+from pathlib import Path
 
 from pydrake.common.yaml import yaml_load
 
 from drake_car.law.checks import ParameterError, checked, excerpt, one_line
 from drake_car.model.hard_points import DERIVED_FROM, HardPointCar, to_parameters
-from drake_car.model.loading import data_path, file_version
+from drake_car.model.loading import DataFileError, data_path, file_version, where_data_is
 from drake_car.model.parameters import CarParameters
 from drake_car.scene.guard import check_yaml, read_yaml_file
 from drake_car.scene.raw import SceneError, check_raw, guarded, typed
@@ -35,8 +36,11 @@ from drake_car.scene.raw import SceneError, check_raw, guarded, typed
 def read_car_file(name) -> HardPointCar:
     """The car file ``name`` (a path, or a name in the package's ``urdf/`` data such as
     ``cars/bmw_320i.yaml``), checked; SceneError naming the file and the key."""
-    path = data_path(name)
     where = f"car_file {name}"
+    path = _car_path(name)
+    if not path.exists():
+        raise SceneError(f"{where}: car file not found"
+                         + ("" if Path(name).is_absolute() else f" ({where_data_is(name)})"))
     text = guarded(read_yaml_file, path)
     guarded(check_yaml, text, where)
     try:
@@ -55,6 +59,13 @@ def read_car_file(name) -> HardPointCar:
         raise SceneError(f"{where}: {e}") from None
 
 
+def _car_path(name):
+    try:
+        return data_path(name)
+    except DataFileError as e:
+        raise SceneError(f"car_file {e}") from None
+
+
 def _every_key_given(raw, schema, where, key):
     for field in dataclasses.fields(schema):
         name = f"{key}.{field.name}" if key else field.name
@@ -69,7 +80,7 @@ def _every_key_given(raw, schema, where, key):
 def car_of_file(name) -> CarParameters:
     """The car of the car file ``name`` (a fresh copy), read once per process for each version
     of the file (its path, size and modification time)."""
-    path = data_path(name)
+    path = _car_path(name)
     return copy.deepcopy(_car_of_file(str(name), str(path), file_version(path)))
 
 

@@ -99,6 +99,11 @@ def wheel_load_at_rest_N(car):
     return car.mass.total_mass_kg * GRAVITY_MPS2 / 4.0
 
 
+# A tyre file's unloaded radius this far (relative) from the car's is said once per pair
+# [EST]: 2 %, a tyre size step (205/60R15 0.3135 m, 205/65R15 0.3238 m) is 3.3 %.
+RADIUS_NOTE = 0.02
+
+
 def _check_tyre_file(scene):
     tyres, car = scene.tyres, scene.car
     tyre = read_tyre(tyres.tir_file)
@@ -109,7 +114,16 @@ def _check_tyre_file(scene):
             f"is valid for wheel loads {tyre.FZMIN:g}..{tyre.FZMAX:g} N (FNOMIN "
             f"{tyre.FNOMIN:g} N); this car rests on about {wheel_N:.0f} N per wheel "
             f"({4 * wheel_N:.0f} N over four) and runs at about 0..{2 * wheel_N:.0f} N in a "
-            "lane change: a tyre for a heavier vehicle")
+            "lane change: a tyre for a "
+            + ("heavier" if wheel_N < tyre.FZMIN else "lighter") + " vehicle")
+    radius = (tyres.tir_file, tyre.UNLOADED_RADIUS, car.tyre.unloaded_radius_m)
+    if abs(tyre.UNLOADED_RADIUS / car.tyre.unloaded_radius_m - 1) > RADIUS_NOTE and \
+            radius not in _SAID:
+        _SAID.add(radius)
+        log.warning("tyres.tir_file %s: UNLOADED_RADIUS %.3f m, the car's tyre.unloaded_radius_m "
+                    "%.3f m: the wheels are placed, driven and rolled on the car's; the Magic "
+                    "Formula's rolling-resistance and aligning moments (and relaxation lengths "
+                    "taken from the file) take the file's", *radius)
     note = combined_slip_note(tyre) if getattr(tyres, "combined_slip", False) else None
     if note and note not in _SAID:
         _SAID.add(note)

@@ -34,8 +34,8 @@ on how many times it slipped and stuck, each kept a settled reserve where it end
 creep (the capacity its force left unused, moving by at most ``SETTLED`` of itself under the
 last halving), and its rest position has converged by the rule the global route uses on a
 whole run's outcomes (``sim.convergence.classify``, to ``position_tolerance_m`` or
-``angle_tolerance_rad``: the differences shrink at first order, or are below a tenth of the
-tolerance). Three levels, not two, and convergence, not mere agreement: two and three levels
+``angle_tolerance_rad``: the differences shrink at first order, or are within
+``window.agreement_band``, a tenth of the tolerance and no more than a tenth of the default's). Three levels, not two, and convergence, not mere agreement: two and three levels
 agreed on a wrong branch (b_3 from a window started at 7.75 s did not break away at 1, 0.5 and
 0.25 ms and did at 0.125 ms and below, its reserve shrinking 9.5e-4, 6.7e-4, 5.0e-4; a_2's
 rods after its return rest 6.4769, 6.4736, 6.4791 mm at 1, 0.5, 0.25 ms, then 5.9707 mm at
@@ -56,13 +56,13 @@ also judge the branch (``sim.twins._branches``): where a twin's level took the b
 level the window hands back and the twin changes it (another count of slips, or a reserve at
 full creep moved by more than ``SETTLED`` of itself), a rest position's move is no measure of
 the error: the pair's error is unknown (infinite, ``branch_changed`` in the record); where
-the inheritance twin finds that, the window is merged with the last one as above, where the
-gap's twin does, the window is run again from the gap's start (``merged["gaps"]``: the design
-study's --quick sobol_0000, its gap 0.39-1.07 s) (a_3 with a
+the inheritance twin finds that, the window is merged with the last one as above (a_3 with a
 tolerance of 2e-4 m: its right strut kept 3.9e-4, 3.7e-4, 3.8e-4 of its capacity at 7.85 s at
 1, 0.5, 0.25 ms from a 0.25 ms window's end and did not break away, 3.5 mm from where the
-default's run rests, with a stated error of 37 µm; the gap's twin's reserve move is doubled as
-its position's). A window's error (per pair) is its rest position's (the convergence rule's;
+default's run rests, with a stated error of 37 µm); where the gap's twin does (its reserve move
+doubled as its position's), the window is run again from the gap's start (``merged["gaps"]``:
+the design study's --quick sobol_0000, its gap 0.39-1.07 s; ``lookback_s`` still bounds a
+merge from the window's own start, so a gap taken in costs one window's length more). A window's error (per pair) is its rest position's (the convergence rule's;
 the span of its last three levels where it did not converge, unknown where they leave a strut
 at full creep with a reserve not settled: ``window.unsettled``) plus both; a run's, their sum
 over its windows. Each level records the extremes of the rods' positions and rotations and
@@ -113,8 +113,10 @@ class Resolver(Twins):
         kinds = friction.pair_kinds()
         self.selected = [i for i, name in enumerate(self.names) if selects(name)
                          and (self.settings.pairs == "all" or kinds[i] == "translation")]
+
         def tolerance(s, kind):
             return s.position_tolerance_m if kind == "translation" else s.angle_tolerance_rad
+
         self.tolerance = {i: tolerance(settings, kinds[i]) for i in self.selected}
         default = type(settings)()  # the default tolerances bound what counts as agreeing
         self.band = {i: agreement_band(self.tolerance[i], tolerance(default, kinds[i]))
@@ -206,6 +208,7 @@ class Resolver(Twins):
         began_cpu = time.process_time()
         s = self.settings
         merged = {"windows": 0, "gaps": 0, "cpu_s": 0.0, "steps": 0, "solver_cpu_s": 0.0}
+        own_start_s = checkpoint.time_s  # before a gap is taken in: what lookback_s bounds
         while True:
             outcomes, errors = self._levels(checkpoint, trigger, end_s)
             for o in outcomes:  # before the twins below reuse levels 0 and 1
@@ -220,7 +223,7 @@ class Resolver(Twins):
             previous = self.chain[-1] if self.chain else None
             if (previous is not None
                     and any(e > self.tolerance[i] for i, e in inherited.items())
-                    and checkpoint.time_s - previous["end_s"] <= s.lookback_s + EPS):
+                    and own_start_s - previous["end_s"] <= s.lookback_s + EPS):
                 # What this window inherits from the last one exceeds the tolerance: the two
                 # are resolved as one window, from the last one's start.
                 self.chain.pop()
@@ -234,6 +237,7 @@ class Resolver(Twins):
                 merged["steps"] += (sum(lv["steps"] for lv in gone["levels"])
                                     + gone["merged"]["steps"] + sum(o.steps for o in outcomes))
                 checkpoint, self.alternative = previous["checkpoint"], previous["alternative"]
+                own_start_s = checkpoint.time_s
                 self.after_last = previous["after_last"]
                 self.solver_after = previous["solver_after"]
                 continue

@@ -41,6 +41,10 @@ from drake_car.sim.rigs.strut import StrutRigOptions, corner_side_force_N, rest_
 from drake_car.sim.simulate import SceneRunner, static_equilibrium
 
 WHEEL = {"left": "fl", "right": "fr"}
+# Where the rig loaded as the car's strut at rest applies its side force (see the module): the
+# top mount. The rig study's loops and synthetic loop use it, and a measured loop is fitted
+# with it unless its test says another (``study.rig.measured.rig_of_loop``).
+SIDE_FORCE_POINT_BELOW_TOP_M = 0.0
 
 
 @dataclasses.dataclass
@@ -81,7 +85,8 @@ class StrutAtRest:
     def rig_options(self, **changes) -> StrutRigOptions:
         """The rig loaded as the car's strut at rest: the side force |F| at the top mount."""
         return StrutRigOptions(**{"side_force_N": self.transverse_force_N,
-                                  "side_force_point_below_top_m": 0.0, **changes})
+                                  "side_force_point_below_top_m":
+                                      SIDE_FORCE_POINT_BELOW_TOP_M, **changes})
 
     def rig_normal_N(self):
         """The rig's N at rest under ``rig_options()`` (eq. 4 at the design position)."""

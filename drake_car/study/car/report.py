@@ -63,7 +63,8 @@ def write_report(path, settled, sweep, stuck, wall, rows=None):
         f"{settled.scene.car.mass.total_mass_kg} kg |",
         f"| ride height front / rear | {final['ride_height_m']['front']:.4f} / "
         f"{final['ride_height_m']['rear']:.4f} m | design "
-        f"{settled.scene.car.tyre.unloaded_radius_m} m |",
+        f"{settled.scene.car.tyre.unloaded_radius_m} m (the model's: wheel centres at the "
+        "tyre's unloaded radius; the settled tyres and springs lower it) |",
         f"| strut overlap d left / right | {final['strut_overlap_m']['left']:.5f} / "
         f"{final['strut_overlap_m']['right']:.5f} m | design "
         f"{settled.scene.car.front.guide_length_l_m} m |",

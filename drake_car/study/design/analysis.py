@@ -35,7 +35,7 @@ def table(study, parts, sweep_dir):
                     "line": values.get("line", ""), "of": values.get("of", "")}
             run = load_run(sweep_dir, key)[1] if status == "ok" else None
             result = (outcomes(run.history, scene, study) if run is not None
-                      else {k: math.nan for k in OUTCOMES})
+                      else {k: math.nan for k in (*OUTCOMES, "speed_a_kph", "speed_asked_kph")})
             rows.append(row | result | resolution_fields(run))
     return rows
 
@@ -109,6 +109,7 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None, smoke=None, adapte
             "jam_states": jam_states, "mitigation_mu_s": study.mitigation_mu_s,
             "mitigations": mitigations,
             "noise": {"pairs": sum(r["role"] == "noise" for r in rows), "levels": noise},
+            "manoeuvre": tables.manoeuvre_summary(study, rows),
             "accuracy": acc,
             "answers": answers.answers(study, rows, sobol, jam_states, mitigations, noise,
                                      lines),

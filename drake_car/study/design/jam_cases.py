@@ -21,6 +21,7 @@ import math
 
 from drake_car.study.design.spec import outcomes
 from drake_car.sweep.refine import refine
+from drake_car.sweep.store import key_parts, run_key
 
 # The outcomes the design study decides with, and their units in ``refine``'s terms.
 DECIDING = {"split_change_rel": "fraction", "pull_deg": "deg"}
@@ -141,9 +142,13 @@ def loops_cpu_s(refined, rows):
     for row in rows:
         if row["status"] == "ok" and math.isfinite(row.get("run_cpu_s", math.nan)):
             own[row["hash"]] = row["run_cpu_s"]
-    halved = {run.scene_hash: run.cpu_s for level, runs in refined.runs.items()
-              if isinstance(level, int) and level > 0 for run in runs.values()
-              if math.isfinite(run.cpu_s)}
+    halved = {}
+    for level, runs in refined.runs.items():
+        if isinstance(level, int) and level > 0:
+            for run in runs.values():
+                key = run_key(key_parts(run.scene))  # the sweep's key, as the rows'
+                if key not in own and math.isfinite(run.cpu_s):  # a noise run may be one
+                    halved[key] = run.cpu_s
     return {"unrefined": sum(own.values()), "refinement": sum(halved.values())}
 
 

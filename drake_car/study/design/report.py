@@ -64,6 +64,7 @@ def report(s, figures=""):
              f"or when the car turns by more than {s['pull_threshold_deg']:g} deg over "
              f"{s['pull_distance_m']:g} m hands off.", ""]
     lines += [f"- {line}" for line in s["answers"]] + [""]
+    lines += _manoeuvre_lines(s.get("manoeuvre"))
     lines += compare_lines(s.get("compare"), smoke is not None)
     lines += ["## How it was made", ""]
     if s.get("scene"):
@@ -77,7 +78,8 @@ def report(s, figures=""):
     lines += ["## Factors and ranges", "", f"| factor | range | this car{paper} | why |",
               "|---|---|---|---|" + ("" if s.get("paper_car") else "---|")]
     for f in s["factors"]:
-        theirs = "" if s.get("paper_car") else f" {f['paper']:g} |"
+        theirs = ("" if s.get("paper_car") else " - |" if math.isnan(f["paper"])
+                  else f" {f['paper']:g} |")
         outside = "" if f["low"] <= f["car"] <= f["high"] else " (outside the range)"
         lines.append(f"| {f['label']} (`{f['key']}`) | {f['low']:g} ... {f['high']:g} | "
                      f"{f['car']:g}{outside} |{theirs} {f['reason']} |")
@@ -134,6 +136,21 @@ def report(s, figures=""):
               "run's key; `pandas.read_csv`); `sweep/runs/<hash>/`: each run's history and "
               "scene as it ran; figures as above.", ""]
     return "\n".join(lines)
+
+
+def _manoeuvre_lines(m):
+    """Whether the runs reached their speed before the lane change (``tables.manoeuvre_summary``)."""
+    if not m or not m["runs"]:
+        return []
+    asked = f"{m['speed_kph']:g} ± {m['tolerance_kph']:g} km/h at place a"
+    if not m["off"]:
+        return [f"Every run ran its manoeuvre's speed ({asked}).", ""]
+    parts = ", ".join(f"{role} {n}" for role, n in sorted(m["off_by_role"].items()))
+    slow = m["slowest"]
+    return [f"**{m['off']} of {m['runs']} runs did not reach {asked}** ({parts}; the slowest "
+            f"{slow['name']} at {slow['speed_a_kph']:.1f} km/h): the car did not follow their "
+            "launch, and their lane change ran at the speed they reached; their outcomes are of "
+            "that speed (`table.csv`: `speed_a_kph`).", ""]
 
 
 def factor_rows(study):

@@ -19,7 +19,7 @@ def factor_values(factor, points):
 
 def map_points(study, spec):
     """The points of a 2-D slice: [{x_key: x, y_key: y}, ...] (the other factors at the
-    paper's values, i.e. the base scene's)."""
+    base scene's values: the study's car's)."""
     fx, fy = factor(study, spec.x), factor(study, spec.y)
     return [{spec.x: x, spec.y: y} for y in factor_values(fy, spec.points)
             for x in factor_values(fx, spec.points)]

@@ -42,7 +42,8 @@ class Factor:
 
 @dataclasses.dataclass
 class MapSpec:
-    """A 2-D slice: ``points`` × ``points`` runs over two factors, the others at ``paper``."""
+    """A 2-D slice: ``points`` × ``points`` runs over two factors, the others at the base
+    scene's values (the study's car's)."""
 
     x: str = ""
     y: str = ""
@@ -232,8 +233,10 @@ def _check_rough_road(study, path):
 
 
 def paper_value(study, f: Factor):
-    """The factor's value for the paper's car (``paper``; NaN: the base scene's value)."""
-    if not math.isnan(f.paper):
+    """The factor's value for the paper's car (``paper``; NaN: the base scene's value where
+    the base is the paper's car, else not known: NaN. A user's car on the base scene has
+    its own values there, a launch and a rack adapted to it)."""
+    if not math.isnan(f.paper) or not is_paper_car(study):
         return f.paper
     return value_of(study.base, f.key)
 
@@ -320,7 +323,8 @@ OUTCOMES = ("split_change_N", "split_change_rel", "stuck_left", "stuck_right",
 
 def outcomes(history, scene: Scene, study: DesignStudy):
     """The study's outcomes of one run (OUTCOMES; NaN where a run cannot say: the pull needs
-    !HandsOff)."""
+    !HandsOff), and its speed at place a (``speed_a_kph``, against its timeline's
+    ``speed_asked_kph``: whether it ran its manoeuvre)."""
     h = history
     timeline = scene.manoeuvre.timeline
     static = 0.5 * (h["Fz_fl_N"][0] + h["Fz_fr_N"][0])
@@ -333,6 +337,9 @@ def outcomes(history, scene: Scene, study: DesignStudy):
                    for k, v in columns.items()}
     a, b = place_values(columns, timeline, "split_N")
     out = {"split_change_N": b - a, "split_change_rel": (b - a) / static}
+    out["speed_a_kph"] = (3.6 * place_values(columns, timeline, "speed_mps")[0]
+                          if "speed_mps" in columns else math.nan)
+    out["speed_asked_kph"] = timeline.speed_kph
     started = h["t"] >= timeline.settle_s
     for side in ("left", "right"):
         phase = h.get(f"friction_{side}_translation_phase")

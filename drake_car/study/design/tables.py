@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH
 from drake_car.study.design.spec import OUTCOMES, factor
 from drake_car.study.design.sensitivity import factor_values, sobol_indices
 
@@ -159,3 +160,25 @@ def line_tables(study, rows):
         out.append({"key": line.key, "label": line.label or line.key,
                     "reason": " ".join(line.reason.split()), "points": points})
     return out
+
+
+def manoeuvre_summary(study, rows):
+    """Whether the runs ran their manoeuvre: the speed at place a within the tolerance of
+    ``scene.manoeuvre_targets`` (the paper study's and ``drake-car-run``'s) of its timeline's
+    (``speed_asked_kph``, the base's where a row lacks it); the runs that did not, by part,
+    the slowest. A launch the car cannot follow
+    (the speed-up line's shortest on a weaker car, the smoke test's 2.8 g) lands the lane change
+    at another speed: those runs' outcomes are of that speed."""
+    target = study.base.manoeuvre.timeline.speed_kph
+    ran = [r for r in rows
+           if r["status"] == "ok" and math.isfinite(r.get("speed_a_kph", math.nan))]
+    off = [r for r in ran
+           if abs(r["speed_a_kph"] - r.get("speed_asked_kph", target)) > SPEED_TOLERANCE_KPH]
+    by_role = {}
+    for r in off:
+        by_role[r["role"]] = by_role.get(r["role"], 0) + 1
+    slowest = min(off, key=lambda r: r["speed_a_kph"], default=None)
+    return {"speed_kph": target, "tolerance_kph": SPEED_TOLERANCE_KPH, "runs": len(ran),
+            "off": len(off), "off_by_role": by_role,
+            "slowest": None if slowest is None else {"name": slowest["name"],
+                                                     "speed_a_kph": slowest["speed_a_kph"]}}

@@ -47,8 +47,9 @@ def available():
     return True, ""
 
 
-# CommonRoad's parameter sets of the cars drake_car ships.
-PARAMETER_SETS = {1: "Ford Escort", 2: "BMW 320i"}
+# CommonRoad's parameter sets of passenger cars (its set 4 is a semi-trailer truck): a car of
+# the same mass and front track (``parameter_set_of``) is cross-checked against its model.
+PARAMETER_SETS = {1: "Ford Escort", 2: "BMW 320i", 3: "VW Vanagon"}
 
 
 def parameters(vehicle_id=1):

@@ -10,6 +10,7 @@ at the finest step tried"."""
 
 import dataclasses
 
+from drake_car.scene.car_file import car_of_file
 from drake_car.study.car.describe import car_facts, car_lines
 from drake_car.study.paper import manoeuvre
 from drake_car.study.paper import report_sections as sections
@@ -54,6 +55,8 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
         "set_roles": {"high": roles_.high, "others": list(roles_.others),
                       "fig16": roles_.fig16},
         "car": car_facts(scenes[0]),
+        "car_file_strut_damping_Nspm": (car_of_file(scenes[0].car_file).front.strut_damping_Nspm
+                                        if scenes[0].car_file else None),
         "paper_car": applies(scenes),
         "sap_pacer": all(sc.simulator.sap_pacer for sc in scenes),
         "cases": {"a": "lane change starting with a left turn (to the left lane and back "
@@ -123,6 +126,11 @@ def _set_lines(s):
     if any(f.dry and f.damping_Nspm for f in sets.values()):
         lines.append("  (the paper's dry struts are undamped; these ran with the viscous damping "
                      "their scenes give)")
+    own = s.get("car_file_strut_damping_Nspm")
+    if own is not None and any(f.damping_Nspm != own for f in sets.values()):
+        lines.append(f"  (the car file gives {own:g} N s/m of viscous damping in the strut; "
+                     "each set ran with its own damping, as listed: to run the car's damper, "
+                     "give friction sets of your own with `--scene`, docs/studies.md)")
     if roles["high"] is None:
         lines.append("- **the sets the claims judge**: no set is dry, so the claims about dry "
                      "friction (1, 2, 6) are not applicable")

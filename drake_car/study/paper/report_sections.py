@@ -60,7 +60,9 @@ def claims_table(s):
 def numbers_table(s):
     lines = ["## Every number behind a verdict, with its numerical error", "",
              "Rows marked *context* do not decide the verdict; they say how near it is or why. "
-             "The values at each step are those of the run (or pair) the number comes from.",
+             "The values at each step are those of the run (or pair) the number comes from; "
+             "a largest (smallest) over runs carries the largest of those runs' errors "
+             "(|max x - max y| <= max |x - y|), not only its own run's.",
              "", table_row("claim", "number", "threshold", "value", "error",
                            "values at each step", "margin to the threshold", "decides"),
              "|---|---|---|---|---|---|---|---|"]

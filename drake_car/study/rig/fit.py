@@ -25,6 +25,7 @@ import numpy as np
 from scipy import stats
 
 from drake_car.law.friction.frd import StrutFrictionParameters
+from drake_car.sim.rigs.at_rest import SIDE_FORCE_POINT_BELOW_TOP_M
 from drake_car.sim.rigs.strut import eq4_normal_force_N, simulate_strut_rig
 from drake_car.study.rig.analysis import LoopError, loop_statistics
 from drake_car.study.rig.measured import MU_MAX, read_loop, residual_check, rig_of_loop
@@ -68,17 +69,21 @@ class LoopFit:
                 "law does not describe the loop: see the warning; the ± would assume it does)")
 
 
-def fit_loop_file(car, path, *, side_force_N=None, amplitude_m=None, frequency_hz=None,
-                  sample_period_s=None):
+def fit_loop_file(car, path, *, side_force_N=None,
+                  side_force_point_below_top_m=SIDE_FORCE_POINT_BELOW_TOP_M, amplitude_m=None,
+                  frequency_hz=None, sample_period_s=None):
     """(LoopFit, StrutRigOptions of the test, what was taken from the loop) of the measured
     loop in CSV ``path``: read, checked against the rig and the options given
-    (``measured.rig_of_loop``), fitted; a LoopError names --measured and the file. What was
-    taken from the loop is logged (info), a flagged fit's warning too (warning)."""
+    (``measured.rig_of_loop``; the side force at the top mount unless
+    ``side_force_point_below_top_m`` says where else), fitted; a LoopError names --measured
+    and the file. What was taken from the loop is logged (info), a flagged fit's warning too
+    (warning)."""
     try:
         loop = read_loop(path)
-        options, period, notes = rig_of_loop(car, loop, side_force_N=side_force_N,
-                                             amplitude_m=amplitude_m, frequency_hz=frequency_hz,
-                                             sample_period_s=sample_period_s)
+        options, period, notes = rig_of_loop(
+            car, loop, side_force_N=side_force_N,
+            side_force_point_below_top_m=side_force_point_below_top_m, amplitude_m=amplitude_m,
+            frequency_hz=frequency_hz, sample_period_s=sample_period_s)
         for note in notes:
             log.info("--measured %s: from the loop: %s", path, note)
         fit = fit_measured_loop(car, options, loop.stroke_m, loop.force_N,

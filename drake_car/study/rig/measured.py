@@ -12,10 +12,13 @@ A loop is a CSV of samples: ``stroke_m`` (the rod's extension from its design po
   m A ω² and ``NOISE_SIGMAS`` of the loop's noise); a sliding force of the opposite sign to
   the motion (the force column's convention reversed);
 - the test against the options: the side load must be given (it scales N, which the loop
-  alone cannot tell); the stroke's amplitude and frequency are taken from the loop (its
-  reversals: half their span, their spacing) and checked against --amplitude_m and
-  --frequency_hz when those are given, within ``TEST_TOLERANCE``; the time base is the
-  ``t_s`` column (uniform) or --sample_period_s, and one is checked against the other.
+  alone cannot tell), and where it acts on the strut axis (its lever to the guide sets N too:
+  the same force gives 0.80 of N at the shipped strut's lower mount as at its top mount); by
+  default where the rig's own loops apply it, the top mount (``sim.rigs.at_rest``); the
+  stroke's amplitude and frequency are taken from the loop (its reversals: half their span,
+  their spacing) and checked against --amplitude_m and --frequency_hz when those are given,
+  within ``TEST_TOLERANCE``; the time base is the ``t_s`` column (uniform) or
+  --sample_period_s, and one is checked against the other.
   The actuator's amplitude is the knuckle's plus the load path's give at the reversal (the
   sliding force over the rig's stiffness: the knuckle stops that far short of the actuator).
 
@@ -32,6 +35,7 @@ import math
 
 import numpy as np
 
+from drake_car.sim.rigs.at_rest import SIDE_FORCE_POINT_BELOW_TOP_M
 from drake_car.sim.rigs.strut import (
     MAX_STROKE_AMPLITUDE_M, StrutRigOptions, eq4_normal_force_N, stroke_limit_m)
 from drake_car.study.rig.analysis import LoopError, reversals
@@ -100,11 +104,24 @@ def _middles(stroke, turns):
     return out
 
 
-def rig_of_loop(car, loop, *, side_force_N=None, amplitude_m=None, frequency_hz=None,
-                sample_period_s=None):
+def side_force_where(front, options):
+    """Where ``options``' side force acts, in words: at the top mount, at the strut's lower
+    mount, or a distance below the top mount."""
+    point = options.side_force_point(front)
+    if point == 0:
+        return "at the top mount"
+    if point == front.strut_lower_mount_below_top_m:
+        return f"at the strut's lower mount, {point:g} m below the top mount"
+    return f"{point:g} m below the top mount"
+
+
+def rig_of_loop(car, loop, *, side_force_N=None,
+                side_force_point_below_top_m=SIDE_FORCE_POINT_BELOW_TOP_M, amplitude_m=None,
+                frequency_hz=None, sample_period_s=None):
     """(StrutRigOptions of the test the loop came from, its sample period, notes of what was
     taken from the loop): the loop checked by magnitude and against the options given (see
-    the module); LoopError naming what is wrong."""
+    the module); ``side_force_point_below_top_m``: where the side force acts on the strut axis
+    (default: the top mount, as the rig's own loops); LoopError naming what is wrong."""
     front = car.front
     stroke, force = loop.stroke_m, loop.force_N
     limit = stroke_limit_m(front)
@@ -126,7 +143,8 @@ def rig_of_loop(car, loop, *, side_force_N=None, amplitude_m=None, frequency_hz=
     measured_amplitude = float(np.mean(np.abs(np.diff(stroke[turns]))) / 2)
     middles = _middles(stroke, turns)
     sliding = np.concatenate([force[m] * d for m, d in middles])
-    options = StrutRigOptions(side_force_N=side_force_N)
+    options = StrutRigOptions(side_force_N=side_force_N,
+                              side_force_point_below_top_m=side_force_point_below_top_m)
     give = float(np.median(np.abs(sliding))) / options.rig_stiffness_Npm
     amplitude = measured_amplitude + give
     if amplitude_m is None:
@@ -151,8 +169,8 @@ def rig_of_loop(car, loop, *, side_force_N=None, amplitude_m=None, frequency_hz=
                         "or leave --frequency_hz out to take it from the loop")
     else:
         frequency = frequency_hz
-    options = StrutRigOptions(side_force_N=side_force_N, stroke_amplitude_m=amplitude,
-                              stroke_frequency_hz=frequency)
+    options = dataclasses.replace(options, stroke_amplitude_m=amplitude,
+                                  stroke_frequency_hz=frequency)
     try:
         options.check(front)
     except ValueError as e:
@@ -205,12 +223,14 @@ def _check_force(car, options, stroke, force, noise):
     allowed = MU_MAX * OVERSHOOT * normal + inertia + NOISE_SIGMAS * noise
     worst = int(np.argmax(np.abs(force) - allowed))
     if abs(force[worst]) > allowed[worst]:
+        where = side_force_where(car.front, options)
         raise LoopError(f"the force reaches {abs(force[worst]):.4g} N at stroke "
                         f"{stroke[worst]:.4g} m, beyond what μ <= {MU_MAX:g} allows at "
-                        f"--side_force_N {options.side_force_N:g} (N = {normal[worst]:.4g} N by "
-                        f"eq. 4 on the rig: at most {allowed[worst]:.4g} N with the rig's "
-                        "overshoot, the knuckle's inertia and the noise); is the force in "
-                        "another unit, or the side load another?")
+                        f"--side_force_N {options.side_force_N:g} {where} (N = "
+                        f"{normal[worst]:.4g} N by eq. 4 on the rig: at most "
+                        f"{allowed[worst]:.4g} N with the rig's overshoot, the knuckle's "
+                        "inertia and the noise); is the force in another unit, or the side "
+                        "load or its point another?")
 
 
 @dataclasses.dataclass
