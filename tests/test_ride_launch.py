@@ -66,9 +66,9 @@ def test_the_launch_test_holds_the_whole_window():
     5.9 m/s², and the car is predicted still short of its speed when the window starts; the
     launch chosen is held over the window."""
     study, base = RideStudy(), base_scene()
-    asked = ride_timeline(RideStudy(speeds_kph=[60.0]), base, 60.0)
     holds = launch.holds_after_launch(study.settle_window_s)
-    assert holds(base, asked)
+    t60 = ride_timeline(RideStudy(speeds_kph=[60.0]), base, 60.0)
+    assert holds(base, dataclasses.replace(t60, speed_up_s=speed_up_s(60.0)))  # 3 s: held
     t100 = ride_timeline(study, base, 100.0)
     assert not holds(base, dataclasses.replace(t100, speed_up_s=speed_up_s(100.0)))
     assert t100.speed_up_s > speed_up_s(100.0) and holds(base, t100)
@@ -112,11 +112,11 @@ def test_a_run_off_its_speed_is_flagged_loudly(caplog):
     assert "not at constant speed" not in summary_text(held)
     off = held[:2] + [_row(0.2, 48.5, 59.8)] + held[3:]
     flag = "\n".join(speed_flag(off))
-    assert "not at constant speed" in flag and "B_60kph_mu0.20_damper: 48.5-59.8 km/h" in flag
+    assert "not at constant speed" in flag and "B_60kph_mu0.20_damper: 48.50-59.80 km/h" in flag
     table = outcome_table(off).splitlines()
     assert [line for line in table if "OFF" in line] == [
         line for line in table if "| 0.20 |" in line]
-    assert "60 **OFF: 48.5-59.8 km/h**" in outcome_table(off)
+    assert "60 **OFF: 48.50-59.80 km/h**" in outcome_table(off)
     assert "**not at constant speed**: 1 of 5 runs" in summary_text(off)
     assert "60 **OFF**" in cost_table(off)
     with caplog.at_level(logging.WARNING, logger="drake_car"):

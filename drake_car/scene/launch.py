@@ -35,8 +35,8 @@ controller above, the torque clamp, the traction limit at the transferred load, 
 resistance QSY1 Fz of the tyre file at the loaded radius and the wheels' spin inertia; its
 mean over place a within ``SPEED_TOLERANCE_KPH`` of the target, less ``PREDICTION_ERROR_KPH``
 (``meets``; ``holds_after_launch``: every sample of a window after the launch within that).
-Measured against the simulated car (lane change a_1, shipped timeline): the shipped Escort (torque-limited at 4.54 m/s²)
-simulated 59.41 km/h at place a, predicted 59.61; the engineer's car of
+Measured against the simulated car (lane change a_1, shipped timeline): the shipped Escort
+(torque-limited at 4.54 m/s²) simulated 59.41 km/h at place a, predicted 59.61; the engineer's car of
 tests/data/engineer_car.yaml (torque-limited at 3.37 m/s²) simulated 49.01, predicted 49.08; the
 speeds while the torque is clamped within 0.05 km/h. The model's error is in the catching up
 (the simulated car holds ~0.2 km/h below its target, its rear wheels' rolling radius not

@@ -23,8 +23,8 @@ rig would measure at the car's mean side load, the "friction force" of the rig m
 (logged at the same instants).
 
 Whether the car held its speed over the analysed window (``held_speed``): every sample within
-``SPEED_TOLERANCE_KPH`` (1 km/h, the manoeuvres' own: ``scene.manoeuvre_targets``) of the asked
-speed; a run that did not is not the ride at that speed (flagged by ``report``)."""
+``SPEED_TOLERANCE_KPH`` (1 km/h, the manoeuvres' own: ``scene.manoeuvre_targets``, applied
+there to place a's mean, here to every sample) of the asked speed; a run that did not is not the ride at that speed (flagged by ``report``)."""
 
 import math
 

@@ -42,8 +42,8 @@ from drake_car.law.friction.frd import StrutFrictionParameters
 SPEED_UP_KPH_PER_S = 20.0
 STRUTS = ("damper", "paper")
 # The road's length when the study does not give one: at least DEFAULT_ROAD_M (the length the
-# study's runs at up to ~135 km/h were made on, so their roads and run keys stay as they
-# were), longer where the fastest run needs it; a run needs its distance plus ROAD_MARGIN_M.
+# study's runs were made on; with the shipped car's own launch it suffices up to ~127 km/h),
+# longer where the fastest run needs it; a run needs its distance plus ROAD_MARGIN_M.
 DEFAULT_ROAD_M = 400.0
 ROAD_MARGIN_M = 10.0
 

@@ -14,7 +14,8 @@ from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH
 from drake_car.study.car.describe import car_facts, car_lines
 from drake_car.study.ride.analysis import OUTCOMES, seat_psd
 from drake_car.study.ride.figures import plot_against_mu, plot_psd
-from drake_car.study.ride.grid import SPEED_UP_KPH_PER_S, analysed_from_s, speed_up_s
+from drake_car.study.ride.grid import (
+    SPEED_UP_KPH_PER_S, analysed_from_s, ride_timelines, speed_up_s)
 
 log = logging.getLogger(__name__)
 
@@ -30,11 +31,11 @@ def _value(row, key, digits):
 
 
 def _range(row):
-    """"48.5-59.8 km/h": the run's speed over its analysed window."""
+    """"48.50-59.80 km/h": the run's speed over its analysed window."""
     low, high = row["speed_min_kph"], row["speed_max_kph"]
     if not (math.isfinite(low) and math.isfinite(high)):
         return "speed not logged"
-    return f"{low:.1f}-{high:.1f} km/h"
+    return f"{low:.2f}-{high:.2f} km/h"
 
 
 def _off(row):
@@ -276,7 +277,8 @@ def write_outputs(out, rows, runs, study, wall_s):
                  if math.isfinite(lo)), default=math.nan)
     warn_off_speed(rows)
     flag = speed_flag(rows)
-    launches = {r["speed_kph"]: r["launch_s"] for r in rows}
+    # Every speed's launch, as the scenes were made (a speed without a finished run too).
+    launches = {v: t.speed_up_s for v, t in ride_timelines(study, scene).items()}
     text = [
         "# Ride comfort and road holding on rough roads against strut friction (issue 23)", "",
         *flag,
