@@ -123,3 +123,20 @@ def test_a_run_off_its_speed_is_flagged_loudly(caplog):
         warn_off_speed(off)
     warned = [r for r in caplog.records if r.levelno == logging.WARNING]
     assert len(warned) == 1 and "B_60kph_mu0.20_damper" in warned[0].getMessage()
+
+
+def test_a_launch_that_length_cannot_cure_is_not_lengthened_to_a_minute(caplog):
+    """A drive whose speed controller droops (a tenth of the shipped gain) misses the window's
+    speed by a steady 0.8 km/h whatever the launch: it was lengthened to MAX_LAUNCH_S (60 s, a
+    1038 m road). Now at most MAX_BEYOND_SHORTEST_S beyond the shortest its drive allows, then
+    the shortest, said on the log; the shipped car's launches are as before."""
+    droop = base_scene(scene_text="drive: !OpenDifferential {speed_gain_Nm_per_mps: 150.0}")
+    study = RideStudy(speeds_kph=[60.0])
+    with caplog.at_level(logging.WARNING, logger="drake_car"):
+        chosen = ride_timeline(study, droop, 60.0)
+    shortest = launch.launch_limits(droop).shortest_launch_s(chosen.speed_mps)
+    assert chosen.speed_up_s == shortest
+    assert any("a steady droop, not the launch" in r.getMessage() for r in caplog.records)
+    shipped = base_scene()
+    assert [ride_timeline(RideStudy(speeds_kph=[v]), shipped, v).speed_up_s
+            for v in (60.0, 100.0, 140.0)] == [3.0, 6.5, 8.9]

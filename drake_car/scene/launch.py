@@ -44,6 +44,7 @@ exactly R0 - δ/3).
 """
 
 import dataclasses
+import logging
 import math
 
 import numpy as np
@@ -56,11 +57,18 @@ from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH, place_a
 from drake_car.scene.manoeuvres import PAPER_SPEED_UP_S, speed_profile
 from drake_car.scene.scene import LinearTyre, MagicFormula, PrescribedRotation
 
+log = logging.getLogger(__name__)
+
 # [EST] the share of the tyres' peak grip a launch may ask (see the module).
 TRACTION_MARGIN = 0.9
 LAUNCH_STEP_S = 0.1  # launches are whole tenths of a second
 BLEND_S = 0.3  # ``speed_profile``'s jerk blends
 MAX_LAUNCH_S = 60.0
+# [EST] How far beyond the shortest launch its drive allows a launch is lengthened to meet its
+# test: the cars measured need 0.3-0.4 s (docs/car.md, docs/studies.md); one that fails 2 s on
+# fails for another reason (a steady speed droop of the drive's controller), which length does
+# not cure: it runs the shortest, and its run is checked against its speed.
+MAX_BEYOND_SHORTEST_S = 2.0
 # [EST] the prescribed rotation's stiff servos: the car follows its wheels within ~10 ms
 # (model.drive.DRIVE_SERVO_GAINS over-damp the wheel), unless the tyres slide.
 PRESCRIBED_LAG_S = 0.01
@@ -227,7 +235,7 @@ def followable_launch(scene, timeline, asked_s, test=meets):
     """``timeline`` with the launch the car runs: ``asked_s`` if the car meets it (``test(scene,
     timeline, limits)``: ``meets``, at place a, unless given), else the shortest launch its
     drive allows, lengthened by ``LAUNCH_STEP_S`` until the car meets it (at most
-    ``MAX_LAUNCH_S``); ``asked_s`` where the tyres push nothing or the car cannot accelerate
+    ``MAX_BEYOND_SHORTEST_S`` beyond it: else the shortest, said); ``asked_s`` where the tyres push nothing or the car cannot accelerate
     at all (nothing to adapt to)."""
     asked = dataclasses.replace(timeline, speed_up_s=asked_s)
     if not _tyre_forces(scene):
@@ -235,9 +243,16 @@ def followable_launch(scene, timeline, asked_s, test=meets):
     limits = launch_limits(scene)
     if limits.max_accel_mps2 <= 0 or test(scene, asked, limits):
         return asked
-    launch = limits.shortest_launch_s(timeline.speed_mps)
+    shortest = launch = limits.shortest_launch_s(timeline.speed_mps)
     chosen = dataclasses.replace(timeline, speed_up_s=launch)
-    while not test(scene, chosen, limits) and launch < MAX_LAUNCH_S:
+    longest = min(MAX_LAUNCH_S, shortest + MAX_BEYOND_SHORTEST_S)
+    while not test(scene, chosen, limits):
+        if launch >= longest - 1e-9:
+            log.warning("%g km/h: no launch from %g to %g s is predicted to meet its speed (a "
+                        "steady droop, not the launch); running the shortest the drive allows, "
+                        "%g s, and checking the run's speed", timeline.speed_kph, shortest,
+                        launch, shortest)
+            return dataclasses.replace(timeline, speed_up_s=shortest)
         launch = round(launch + LAUNCH_STEP_S, 6)
         chosen = dataclasses.replace(timeline, speed_up_s=launch)
     return chosen
