@@ -140,3 +140,28 @@ def test_a_launch_that_length_cannot_cure_is_not_lengthened_to_a_minute(caplog):
     shipped = base_scene()
     assert [ride_timeline(RideStudy(speeds_kph=[v]), shipped, v).speed_up_s
             for v in (60.0, 100.0, 140.0)] == [3.0, 6.5, 8.9]
+
+
+@pytest.mark.parametrize("text, key", [
+    ("manoeuvre: !Straight {timeline: {speed_up_s: 8.0}}", "speed_up_s"),
+    ("manoeuvre: !Straight {timeline: {speed_kph: 80.0}}", "speed_kph"),
+    ("manoeuvre: !Straight {timeline: {calm_s: 1.0}}", "calm_s"),
+])
+def test_a_stated_launch_or_speed_is_refused_not_replaced(text, key, tmp_path):
+    """The ride study sets the speed (--speeds), the launch and the window per speed: a user's
+    scene that states one of them would have it replaced without a word (it was, before), so
+    it is refused, naming the key and what sets it."""
+    from drake_car.scene.raw import SceneError
+    with pytest.raises(SceneError, match=rf"--scene_text: states manoeuvre\.timeline\.{key}"):
+        base_scene(scene_text=text)
+    mine = tmp_path / "mine.yaml"
+    mine.write_text(f"car: {{{text}}}\n")
+    with pytest.raises(SceneError, match=rf"--scene {mine}:car: states manoeuvre\.timeline\.{key}"):
+        base_scene(scene=(mine, "car"))
+
+
+def test_the_time_at_rest_is_taken_from_the_users_scene():
+    """settle_s is not set by the study: a stated one runs (the run's first phase)."""
+    base = base_scene(scene_text="manoeuvre: !Straight {timeline: {settle_s: 0.5}}")
+    assert base.manoeuvre.timeline.settle_s == 0.5
+    assert ride_timeline(RideStudy(speeds_kph=[60.0]), base, 60.0).settle_s == 0.5

@@ -142,6 +142,19 @@ def load_section(schema, key, text, where):
         raise SceneError(f"{where}: {e}") from None
 
 
+def stated(path=None, child=None, scene_text=None):
+    """The raw YAML a user stated (tags as ``_tag``, merge keys applied): of the scene file
+    ``path``'s entry ``child`` (its one entry if None), else of ``scene_text``; {} for none. For
+    a study that sets some of a scene's values and must refuse, not replace, a stated one."""
+    if path is not None:
+        data = _read_file(Path(path))[1]
+        entries = _entries(path, data)
+        raw = data.get(child if child is not None else entries[0])
+    else:
+        raw = yaml_load(data=scene_text) if scene_text else None
+    return raw if isinstance(raw, dict) else {}
+
+
 def parse_scene_option(text):
     """``FILE`` or ``FILE:ENTRY`` -> (path, entry or None)."""
     if ":" in text and not Path(text).exists():

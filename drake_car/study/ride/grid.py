@@ -32,7 +32,7 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 from drake_car.law.checks import ParameterError
 from drake_car.law.road.iso8608 import CLASS_GD_N0_M3, road_profile
 from drake_car.scene.launch import followable_launch, holds_after_launch
-from drake_car.scene.load import SceneError, check_scene, load_scene
+from drake_car.scene.load import SceneError, check_scene, load_scene, stated
 from drake_car.scene.manoeuvres import MAX_SPEED_KPH, Straight
 from drake_car.scene.scene import Friction
 from drake_car.law.friction.frd import StrutFrictionParameters
@@ -103,14 +103,43 @@ def base_scene(scene_text=None, scene=None):
     base = load_scene(resource("scenes") / "ride.yaml", child="ride")
     if scene is not None:
         base = load_scene(scene[0], child=scene[1], base=base)
+        _refuse_what_the_study_sets(stated(scene[0], scene[1]),
+                                    f"--scene {':'.join(str(p) for p in scene if p)}")
     if scene_text:
         base = load_scene(scene_text=scene_text, base=base)
+        _refuse_what_the_study_sets(stated(scene_text=scene_text), "--scene_text")
     if not isinstance(base.manoeuvre, Straight):
         raise SceneError(f"the ride study drives straight at constant speed; its base scene's "
                          f"manoeuvre must be !Straight, not !{type(base.manoeuvre).__name__} "
                          "from --scene/--scene_text: give the car alone (a scene entry "
                          "without a manoeuvre, or --scene_text \"{car_file: FILE, ...}\")")
     return base
+
+
+def _refuse_what_the_study_sets(raw, where):
+    """A user's scene that states a value of the timeline the study sets per speed (the speed,
+    the launch, the window) is refused: it would be replaced without a word. Only ``settle_s``,
+    the time at rest before the launch, is the scene's."""
+    manoeuvre = raw.get("manoeuvre")
+    if not isinstance(manoeuvre, dict) or manoeuvre.get("_tag", "!Straight") != "!Straight":
+        return  # none, or another manoeuvre: refused below unless a later layer replaces it
+    timeline = manoeuvre.get("timeline")
+    for key in RIDE_SETS:
+        if isinstance(timeline, dict) and key in timeline:
+            raise SceneError(
+                f"{where}: states manoeuvre.timeline.{key} ({timeline[key]}); the ride study "
+                f"sets it ({RIDE_SETS[key]}) and would replace it: leave it out (of the "
+                "timeline only settle_s, the time at rest before the launch, is your scene's)")
+
+
+RIDE_SETS = {  # what the study sets of a scene's timeline, and how
+    "speed_kph": "the speeds: --speeds",
+    "speed_up_s": f"the launch: {SPEED_UP_KPH_PER_S:g} km/h per s, or the shortest the car's "
+                  "drive allows",
+    "straight_s": "none: the window follows the launch",
+    "steer_s": "the analysed window: settle_window_s + window_s of the study",
+    "calm_s": "none: the run ends with its window",
+}
 
 
 def speed_up_s(speed_kph):
