@@ -97,7 +97,7 @@ class Resolver(Twins):
     (``sim.twins``)."""
 
     def __init__(self, runner, *, settings, step_s, make_level, selects):
-        """``settings``: a ``scene.scene.ResolveEvents``; ``step_s``: the run's step;
+        """``settings``: a ``scene.simulator.ResolveEvents``; ``step_s``: the run's step;
         ``make_level(step_s, solver_factor=1.0)``: a runner of the same simulation at another
         step (its events read after each chunk, as ``runner``'s are: ``events``,
         ``event_count``), SAP's tolerance loosened by ``solver_factor`` (the solver twin);

@@ -5,7 +5,7 @@ event bookkeeping the car's runner (``sim.simulate.SceneRunner``) and the fricti
 After every chunk of the monitor's period the friction's event log (``law.friction.events``)
 is read into ``events`` as (row, step, window) triples: row in ``EVENT_FIELDS``, step the step
 that saw it, window the resolution window that resolved it (-1: none); ``last_rows`` the
-chunk's rows. With ``resolve`` (a ``scene.scene.ResolveEvents``) a ``sim.resolve.Resolver``
+chunk's rows. With ``resolve`` (a ``scene.simulator.ResolveEvents``) a ``sim.resolve.Resolver``
 acts between chunks (``before_chunk``, ``after_chunk``) and ``logged()`` splices its windows'
 histories into the loggers'.
 """

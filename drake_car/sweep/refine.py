@@ -61,7 +61,7 @@ def check_twin(scene, factor=2.0):
 
 def loosened(scene, factor=2.0):
     """``scene`` with SAP's relative tolerance loosened by ``factor`` (the solver axis' twin;
-    ``scene.scene.Simulator.sap_tolerance_factor``); refused beyond the ballast's range."""
+    ``scene.simulator.Simulator.sap_tolerance_factor``); refused beyond the ballast's range."""
     check_twin(scene, factor)
     simulator = dataclasses.replace(
         scene.simulator, sap_tolerance_factor=scene.simulator.sap_tolerance_factor * factor)

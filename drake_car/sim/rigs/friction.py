@@ -295,7 +295,7 @@ def run_rig(options: RigOptions, params: StrutFrictionParameters | None = None, 
             duration_s=1.0, record_period_s=None, progress=False, resolve=None) -> RunResult:
     """The rig on the one runner (``sim.simulation.Runner``): its history (``simulate_rig``),
     how the run went (wall and CPU time, steps) and its friction's stick-slip events.
-    ``resolve``: a ``scene.scene.ResolveEvents``: the rig's slips resolved locally, as a car's
+    ``resolve``: a ``scene.simulator.ResolveEvents``: the rig's slips resolved locally, as a car's
     (``sim.resolve``: each slip of the block's pair, ``pairs: all`` for a rotational rig's, run
     in a window at halved steps, the history spliced; the windows' samples at their own steps
     where the run records every step), the result's ``resolution`` saying what it did."""
