@@ -371,30 +371,3 @@ def whole_car_inertia_kgm2(params: CarParameters):
     for mass, com, own in part_inertias(params):
         inertia = inertia + own + parallel_axis(mass, com - centre)
     return np.diag(inertia)
-
-
-_SPRING = "front.spring_upper_seat_m and front.spring_lower_seat_m (about the strut axis)"
-_STRUT = "front.strut_top_mount_m and front.strut_lower_mount_m"
-_STEER = "front.ball_joint_m and front.strut_top_mount_m"
-_BODY = ("mass (the whole car's centre of gravity and inertia, less the parts') and "
-         "wheelbase_m")
-# Where each value of CarParameters comes from in a car file (for a refusal's message).
-DERIVED_FROM = {
-    "front.track_m": "front.wheel_centre_m (y)",
-    "front.ball_joint_offset_b_m": "front.wheel_centre_m and front.ball_joint_m (y)",
-    "front.ball_joint_height_m": "front.ball_joint_m", "front.ball_joint_x_m": "front.ball_joint_m",
-    "front.kingpin_inclination_deg": _STEER, "front.caster_deg": _STEER,
-    "front.top_mount_height_m": "front.strut_top_mount_m",
-    "front.strut_inclination_deg": _STRUT, "front.strut_caster_deg": _STRUT,
-    "front.strut_lower_mount_below_top_m": _STRUT,
-    "front.spring_lower_seat_below_top_m": _SPRING, "front.spring_upper_seat_below_top_m": _SPRING,
-    "front.spring_offset_m": _SPRING, "front.spring_inclination_deg": _SPRING,
-    "front.spring_offset_fore_aft_m": _SPRING, "front.spring_inclination_fore_aft_deg": _SPRING,
-    "front.rack_x_m": "front.tie_rod_inner_m", "front.rack_height_m": "front.tie_rod_inner_m",
-    "front.rack_half_length_m": "front.tie_rod_inner_m",
-    "mass.cog_to_front_axle_m": _BODY, "mass.cog_to_rear_axle_m": _BODY,
-    "mass.sprung_cog_height_m": _BODY, "mass.sprung_inertia_kgm2": _BODY,
-    "rear.pivot_height_m": "rear.pivot_height_m (moved with the frame)",
-    "rear.spring_lower_height_m": "rear.spring_lower_height_m (moved with the frame)",
-    "rear.spring_upper_height_m": "rear.spring_upper_height_m (moved with the frame)",
-}
