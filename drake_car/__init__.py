@@ -4,7 +4,7 @@ framework (Harlecki & Kubas' ADAMS study rebuilt). What a user builds with:
     import drake_car
     scene = drake_car.load_scene("scenes/paper_study.yaml", child="a_3")
     run = drake_car.simulate(scene)             # history, final state, the scene that ran
-    built = drake_car.build_diagram(scene)      # the car's Diagram and its handles
+    built = drake_car.build_diagram(drake_car.scene_as_it_runs(scene))  # its Diagram, handles
     built = drake_car.build_diagram(scene, external_driver=True)   # wire your own driver
 
 The names load lazily (PEP 562): importing one room (``drake_car.law.friction.frd``) loads
@@ -23,6 +23,7 @@ _EXPORTS = {
     "build_diagram": "drake_car.sim.build",
     "CarDiagram": "drake_car.sim.car_diagram",
     "simulate": "drake_car.sim.simulate",
+    "scene_as_it_runs": "drake_car.sim.simulate",
     "Run": "drake_car.sim.simulate",
     # the car's systems
     "StrutFriction": "drake_car.systems.strut_friction",

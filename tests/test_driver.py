@@ -10,6 +10,7 @@ from pydrake.math import RigidTransform
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 
+from drake_car.law.errors import InputError
 from drake_car.law.road.centre_line import CentreLine
 from drake_car.scene.load import load_scene
 from drake_car.scene.paths import PathFollower
@@ -97,7 +98,7 @@ def test_external_driver_ports():
         == ["drive_torque_Nm", "rack_position_m"]
     assert [diagram.get_output_port(i).get_name() for i in range(diagram.num_output_ports())] \
         == ["car_state", "chassis_motion", "body_poses", "body_spatial_velocities",
-            "tyre_loads_N", "strut_friction_diagnostics"]
+            "tyre_loads_N", "tyre_diagnostics", "strut_friction_diagnostics"]
     assert set(built.inputs) == {"drive_torque_Nm", "rack_position_m"}
     assert built.outputs["chassis_motion"].size() == len(CHASSIS_COLUMNS)
     plant, instance = built.plant, built.car.instance
@@ -105,6 +106,9 @@ def test_external_driver_ports():
                                                  + plant.num_velocities(instance))
     assert built.outputs["strut_friction_diagnostics"].size() == len(
         built.friction.diagnostic_names())
+    # The loads alone (the tyre system's own port holds the radial deflections after them).
+    assert built.outputs["tyre_loads_N"].size() == 4
+    assert built.outputs["tyre_diagnostics"].size() == len(built.tyre.diagnostic_names())
     # No friction: no diagnostics port; a manoeuvre that does not drive: no torque input.
     settle = _external("manoeuvre: !Settle {}")
     assert set(settle.inputs) == {"rack_position_m"}
@@ -113,9 +117,9 @@ def test_external_driver_ports():
 
 def test_external_driver_refused_where_it_cannot_be():
     scene = load_scene(scene_text="drive: !PrescribedRotation {}")
-    with pytest.raises(ValueError, match="OpenDifferential"):
+    with pytest.raises(InputError, match="OpenDifferential"):
         build_diagram(scene, external_driver=True)
-    with pytest.raises(ValueError, match="HeldRack"):
+    with pytest.raises(InputError, match="HeldRack"):
         build_diagram(load_scene(scene_text="steering: !HandsOff {}"), external_driver=True)
 
 
@@ -190,3 +194,12 @@ def test_an_outside_driver_holds_the_lane_and_the_speed():
     T = t[-1] - t_free
     speed_bound = e_s * (1 + omega * T) * math.exp(-omega * T)
     assert abs(v[-1] - target) <= speed_bound, (v[-1], target, speed_bound)
+
+    # The exported loads are the tyre system's first four values (its deflections left out).
+    loads = car.outputs["tyre_loads_N"].Eval(car.diagram.GetMyContextFromRoot(root))
+    own = car.tyre.GetOutputPort("tyre_loads").Eval(car.tyre.GetMyContextFromRoot(root))
+    np.testing.assert_array_equal(loads, own[:4])
+    # They carry the car: it has held its speed on the flat road for over 2 s, long after its
+    # heave mode (about 1.5 Hz, damping ratio about 0.3: e-fold in about 0.35 s) settled, so
+    # the body's vertical acceleration is below 0.1 % of g.
+    assert loads.sum() == pytest.approx(scene.car.mass.total_mass_kg * 9.81, rel=1e-3)

@@ -31,3 +31,17 @@ def test_the_law_loads_without_drake():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.strip()
     assert out == "[]", out
+
+
+def test_the_package_docstrings_build_works_on_a_lane_change():
+    """``drake_car``'s own example: a lane change's Diagram is built from the scene as it runs
+    (its rack calibrated for the car: the shipped Escort's profile); the uncalibrated scene is
+    refused with an InputError that names the way."""
+    import pytest
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    scene = drake_car.load_scene(root / "scenes" / "paper_study.yaml", child="a_3")
+    with pytest.raises(drake_car.InputError, match=r"drake_car\.scene_as_it_runs\(scene\)"):
+        drake_car.build_diagram(scene)
+    built = drake_car.build_diagram(drake_car.scene_as_it_runs(scene))
+    assert built.scene.manoeuvre.calibrated and built.friction is not None

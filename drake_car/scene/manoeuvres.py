@@ -22,6 +22,7 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from drake_car.law.numerics.akima import akima_slopes
 from drake_car.law.checks import ParameterError, checked, nonnegative, one_of, positive
+from drake_car.law.errors import InputError
 
 PHASES = ("I", "II", "III", "IV")
 # A run longer than this (simulated) is refused: at ~2 ms of wall time per simulated ms it would
@@ -226,9 +227,10 @@ class LaneChange(DrivingManoeuvre):
 
     def knots(self):
         if not self.calibrated:
-            raise ValueError("LaneChange: the rack's profile is not calibrated yet; run the "
-                             "scene (sim.simulate calibrates it for the car) or give "
-                             "amplitude_m and second_lobe")
+            raise InputError("LaneChange: the rack's profile is not calibrated for the car "
+                             "yet: build the scene as it runs, drake_car.scene_as_it_runs("
+                             "scene) (drake_car.simulate does so itself), or give amplitude_m "
+                             "and second_lobe")
         shape = np.array(LANE_CHANGE_KNOT_SHAPE)
         shape[shape < 0] *= self.second_lobe
         sign = 1.0 if self.case == "a" else -1.0

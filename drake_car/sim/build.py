@@ -25,6 +25,7 @@ from drake_car.model.steering import add_steering_column, column_strut, release_
 from drake_car.model.struts import declare_strut_friction, make_strut_friction
 from drake_car.scene.load import channels_of, hands_off_release_s
 from drake_car.scene.manoeuvres import LaneChange
+from drake_car.scene.raw import SceneError
 from drake_car.scene.scene import (
     HandsOff, HeldRack, LinearTyre, MagicFormula, PathFollower, PrescribedRotation, Scene)
 from drake_car.sim.actuation import ActuationWiring
@@ -45,7 +46,11 @@ _NOTED = set()  # tyre files whose load note was logged (once per file and car p
 
 def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
                   column_form="reflected", external_driver=False) -> CarDiagram:
-    """The scene's Diagram. ``branchable`` (lane changes only): both cases' rack commands
+    """The scene's Diagram (a lane change's rack must be calibrated for the car: build
+    ``drake_car.scene_as_it_runs(scene)``, as ``simulate`` does). ``meshcat``: a
+    ``pydrake.geometry.Meshcat`` to draw the car in (a ``MeshcatVisualizer`` is added whatever
+    the scene's ``visualization`` says: that section is what ``simulate`` reads; a replay page
+    from your own loop: ``sim.replay.ReplayRecorder``). ``branchable`` (lane changes only): both cases' rack commands
     behind a switch whose selection is a value of the context (``select_case``), so runs that
     differ only in the case can continue one saved context (``sim.branch``). ``column_form``:
     how a hands-off scene's steering column is modelled (``model.steering.COLUMN_FORMS``; the
@@ -54,7 +59,8 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
     ``external_driver``: leave the rack command and the drive torque unconnected and export
     them as the Diagram's inputs ``rack_position_m`` and ``drive_torque_Nm``, with the
     outputs a driver or controller reads (``car_state``, ``chassis_motion``, ``body_poses``,
-    ``body_spatial_velocities``, ``tyre_loads_N``, ``strut_friction_diagnostics``; units and
+    ``body_spatial_velocities``, ``tyre_loads_N``, ``tyre_diagnostics``,
+    ``strut_friction_diagnostics``; units and
     layouts in ``sim.driver_wiring``), as Drake's ``MakeHardwareStation`` exports every
     unconnected input: the driver is then a system of the caller's own outer Diagram
     (``CarDiagram.inputs`` / ``outputs`` hold the ports). It is an argument of the build, not
@@ -65,7 +71,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
     are not built. Needs the scene's steering ``!HeldRack`` and drive ``!OpenDifferential``;
     not branchable."""
     if external_driver and (branchable or not isinstance(scene.steering, HeldRack)):
-        raise ValueError("build_diagram(external_driver=True): needs steering !HeldRack (the "
+        raise SceneError("build_diagram(external_driver=True): needs steering !HeldRack (the "
                          "driver comes from outside) and is not branchable")
     builder = DiagramBuilder()
     # 1. The plant and the car, then every actuator the scene needs, before Finalize.
@@ -153,7 +159,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
         _, rack_port = rack_command(builder, driver.rack_output_port())
     elif branchable:
         if not isinstance(scene.manoeuvre, LaneChange):
-            raise ValueError("build_diagram: only lane changes are branchable")
+            raise SceneError("build_diagram: only lane changes are branchable")
         switch = builder.AddSystem(PortSwitch(2))
         switch.set_name("lane_change_case")
         for case in CASES:
@@ -200,7 +206,7 @@ def build_diagram(scene: Scene, *, meshcat=None, branchable=False,
     output_index = {}
     if external_driver:
         output_index = {name: builder.ExportOutput(port, name) for name, port in
-                        external_outputs(plant, car, tyre, friction,
+                        external_outputs(builder, plant, car, tyre, friction,
                                          channels.GetOutputPort("chassis")).items()}
     velocity_logger = LogVectorOutput(plant.get_state_output_port(car.instance), builder,
                                       scene.time_step_s)

@@ -62,6 +62,9 @@ class CarDiagram:
                            tuple(car.wheel_bodies()[w] for w in WHEELS)))
 
     def set_initial_state(self, root_context):
+        """The car's positions set to ``initial_positions`` where the runner gave them (None
+        after ``build_diagram`` alone: the model's design position stays; for the car at rest
+        on its tyres set ``sim.simulate.static_equilibrium(scene).positions``, docs/driver.md)."""
         if self.initial_positions is not None:
             self.plant.SetPositions(self.plant.GetMyMutableContextFromRoot(root_context),
                                     self.car.instance, np.asarray(self.initial_positions))

@@ -6,12 +6,15 @@ steering linkage and wheelbase), and the Diagram's ports for a driver connected 
 Exported ports of an external-driver Diagram (``EXTERNAL_INPUTS``, ``external_outputs``):
 
 inputs
-    ``rack_position_m`` (1): the rack's commanded position (m, left +: a left turn); the rack
-    servo (the driver's hands and the column, ``model.car.RACK_SERVO_GAINS``) holds it, its
-    damping acting on the rack's velocity.
-    ``drive_torque_Nm`` (1, when the manoeuvre drives): the total drive torque at the front
-    wheels (N m), split equally by the open differential, clamped to the drive's
-    ``max_wheel_torque_Nm`` and reduced by its rev limit.
+    ``rack_position_m`` (1): the rack's commanded position (m, in the rack's own direction:
+    left + turns left for a rack ahead of the front axle, right for one behind it,
+    ``model.geometry.steering_sign``; ``rack_per_steer_m_per_rad`` is signed to match, so a
+    law built on it steers either car); the rack servo (the driver's hands and the column,
+    ``model.car.RACK_SERVO_GAINS``) holds it, its damping acting on the rack's velocity.
+    ``drive_torque_Nm`` (1, when the manoeuvre drives): the total drive torque at the driven
+    wheels (N m: the front axle's, or the rear's with ``car.driven_axle: rear``), split equally
+    by the open differential, clamped to the drive's ``max_wheel_torque_Nm`` and reduced by
+    its rev limit.
 outputs
     ``car_state``: the car's positions then velocities (the plant's state of the car's model
     instance: the floating chassis' quaternion, position (m), then every joint; its angular
@@ -22,8 +25,15 @@ outputs
     points).
     ``body_poses``, ``body_spatial_velocities``: the plant's, for any other body.
     ``tyre_loads_N`` (4): the wheels' vertical loads fl, fr, rl, rr (N).
-    ``strut_friction_diagnostics`` (when the scene has strut friction): the friction system's
-    diagnostics (``StrutFriction.diagnostic_names()``: phase, β, μ1, μ, N, creep per pair).
+    ``tyre_diagnostics`` (4 x ``systems.tyre.DIAGNOSTIC_FIELDS``): per wheel its slips,
+    forces and moments, named by ``CarDiagram.tyre.diagnostic_names()`` ("Fx_fl_N",
+    "Fy_fl_N", "Mz_fl_Nm", "kappa_fl", ...).
+    ``strut_friction_diagnostics`` (when the scene has strut friction; 8 per pair): per pair
+    v, creep, beta, mu1, mu, phase, N, friction, named by
+    ``CarDiagram.friction.diagnostic_names()`` (``systems.strut_friction``): the law's values
+    at the step's start. In the fast scheme the force the plant applies is the law's
+    linearisation solved inside SAP (its PD actuators ``strut_friction_*``):
+    ``plant.get_net_actuation_output_port(car.instance)`` gives it.
 """
 
 import numpy as np
@@ -35,6 +45,7 @@ from drake_car.model.drive import rolling_radius
 from drake_car.model.geometry import SIDES
 from drake_car.model.kinematics import SuspensionKinematics
 from drake_car.model.channels import CAR_CHANNELS
+from drake_car.scene.raw import SceneError
 from drake_car.scene.scene import OpenDifferential, PathFollower
 from drake_car.sim.drive_wiring import add_governor
 from drake_car.systems.path_driver import (
@@ -123,7 +134,7 @@ def drive_torque_input(builder, plant, car, scene, wiring):
     """The open differential on a torque from outside; returns the input to export."""
     drive = scene.drive
     if not isinstance(drive, OpenDifferential):
-        raise ValueError("build_diagram(external_driver=True): the drive must be "
+        raise SceneError("build_diagram(external_driver=True): the drive must be "
                          f"!OpenDifferential (a driver gives a torque); the scene's is "
                          f"!{type(drive).__name__}")
     split = builder.AddSystem(MatrixGain(np.full((2, 1), 0.5)))
@@ -137,14 +148,26 @@ def drive_torque_input(builder, plant, car, scene, wiring):
     return split.get_input_port()
 
 
-def external_outputs(plant, car, tyre, friction, motion_port):
+def _loads(builder, tyre):
+    """The tyre system's vertical loads alone (its ``tyre_loads`` holds the radial deflections
+    (m) after them)."""
+    port = tyre.GetOutputPort("tyre_loads")
+    wheels = port.size() // 2
+    select = builder.AddSystem(MatrixGain(np.eye(wheels, port.size())))
+    select.set_name("tyre_loads_N")
+    builder.Connect(port, select.get_input_port())
+    return select.get_output_port()
+
+
+def external_outputs(builder, plant, car, tyre, friction, motion_port):
     """name -> output port of what an external driver or controller reads (module
     docstring)."""
     ports = {"car_state": plant.get_state_output_port(car.instance),
              "chassis_motion": motion_port,
              "body_poses": plant.get_body_poses_output_port(),
              "body_spatial_velocities": plant.get_body_spatial_velocities_output_port(),
-             "tyre_loads_N": tyre.GetOutputPort("tyre_loads")}
+             "tyre_loads_N": _loads(builder, tyre),
+             "tyre_diagnostics": tyre.GetOutputPort("tyre_diagnostics")}
     if friction is not None:
         ports["strut_friction_diagnostics"] = friction.GetOutputPort("diagnostics")
     return ports

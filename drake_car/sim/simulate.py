@@ -101,6 +101,15 @@ def simulate(scene: Scene, *, progress=False, meshcat=None) -> Run:
     return SceneRunner(scene, progress=progress, meshcat=meshcat).run().finish()
 
 
+def scene_as_it_runs(scene: Scene) -> Scene:
+    """The scene as ``simulate`` runs it, to build its Diagram yourself: a launch left out
+    resolved to what the car's drive allows (``scene.launch``), a lane change's rack calibrated
+    for the car (``sim.lane_change_calibration``: the shipped Escort's profile, else found in
+    the cache by content or calibrated by a few runs). A scene with nothing to adapt comes back
+    as it is."""
+    return adapted(scene, run=simulate)[0]
+
+
 class SceneRunner(SlipRunner):
     """The one runner (``sim.simulation.Runner``, with its friction's events and the local
     resolution of its struts' slips: ``sim.slips.SlipRunner``) on a scene's car: builds the

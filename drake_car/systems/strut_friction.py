@@ -166,6 +166,12 @@ class StrutFriction(FrictionStateAccess, LeafSystem):
     step's start (N or N·m), evaluated from the state at the start of the step.
 
     ``struts``: a list of ``friction_pairs.Strut``.
+
+    State: the creep, phase and position memory of every pair, the step's PD targets and the
+    event log, as discrete groups (``systems.friction_state``: the layout; ``creeps()``,
+    ``phases()``, ``events()`` read them). An initialization event sets them from the plant's
+    state (no creep, static): a new ``Simulator`` on a saved context resets them unless it is
+    initialized with ``InitializeParams(suppress_initialization_events=True)`` (``sim.branch``).
     """
 
     def __init__(self, plant, struts, params: StrutFrictionParameters, *, scheme="fast",
