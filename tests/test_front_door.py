@@ -45,3 +45,20 @@ def test_the_package_docstrings_build_works_on_a_lane_change():
         drake_car.build_diagram(scene)
     built = drake_car.build_diagram(drake_car.scene_as_it_runs(scene))
     assert built.scene.manoeuvre.calibrated and built.friction is not None
+
+
+def test_quiet_quiets_drakes_own_info_messages_too():
+    """``--quiet`` is warnings only: Drake's messages (e.g. "Meshcat listening ...", routed to
+    the "drake" logger) included; without it Drake's level is left as pydrake sets it."""
+    import logging
+    from drake_car.commands.cli import configure_logging
+    drake = logging.getLogger("drake")
+    before = drake.level
+    try:
+        configure_logging()
+        assert drake.level == before
+        configure_logging(quiet=True)
+        assert not drake.isEnabledFor(logging.INFO) and drake.isEnabledFor(logging.WARNING)
+    finally:
+        drake.setLevel(before)
+        configure_logging()

@@ -49,6 +49,9 @@ def configure_logging(*, quiet=False, verbose=False):
     logger = logging.getLogger("drake_car")
     logger.setLevel(logging.DEBUG if verbose else logging.WARNING if quiet else logging.INFO)
     logger.propagate = False
+    # Drake's own messages (its spdlog, routed to the "drake" logger): warnings only with quiet
+    if quiet:
+        logging.getLogger("drake").setLevel(logging.WARNING)
     if not any(isinstance(h, _TqdmHandler) for h in logger.handlers):
         handler = _TqdmHandler()
         handler.setFormatter(_Formatter())
