@@ -6,7 +6,7 @@ one-line refusals of a table are in test_bad_input.py."""
 
 import errno
 import json
-import tempfile
+import os
 from pathlib import Path
 
 import pytest
@@ -33,17 +33,25 @@ def refused(main, args, capsys):
     return err
 
 
-def no_writing(monkeypatch):
-    """Creating a file anywhere fails as on a read-only mount (what root meets in /sys, where
-    ``os.access`` says yes)."""
-    def mkstemp(*args, **kwargs):
-        raise OSError(errno.EROFS, "Read-only file system")
-    monkeypatch.setattr(tempfile, "mkstemp", mkstemp)
+def no_writing(monkeypatch, folder, unnamed=errno.EROFS):
+    """Making a file in ``folder`` fails: an unnamed one with ``unnamed`` (EROFS: a read-only
+    mount; EOPNOTSUPP: a file system without them, as sysfs and procfs), a named one with
+    EACCES (what root meets in /sys, where ``os.access`` says yes)."""
+    real_open = os.open
+
+    def fake_open(path, flags, *args, **kwargs):
+        if Path(path) == folder and flags & getattr(os, "O_TMPFILE", 0) == getattr(
+                os, "O_TMPFILE", -1):
+            raise OSError(unnamed, os.strerror(unnamed), str(path))
+        if Path(path).parent == folder and flags & os.O_CREAT:
+            raise OSError(errno.EACCES, "Permission denied", str(path))
+        return real_open(path, flags, *args, **kwargs)
+    monkeypatch.setattr(os, "open", fake_open)
 
 
 def test_an_unwritable_out_is_refused_naming_it_before_any_work(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(ROOT)
-    no_writing(monkeypatch)
+    no_writing(monkeypatch, tmp_path)
 
     def work(*args, **kwargs):
         raise AssertionError("the work began before --out was checked")
@@ -56,6 +64,19 @@ def test_an_unwritable_out_is_refused_naming_it_before_any_work(tmp_path, capsys
         err = refused(main, args + ["--out", out], capsys)
         assert f"error: --out {out}: cannot write in {tmp_path} (Read-only file system)" in err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("unnamed", [errno.EOPNOTSUPP, errno.EACCES])
+def test_the_writable_check_falls_back_to_a_named_file_and_changes_nothing(tmp_path, unnamed,
+                                                                          monkeypatch):
+    stamp = tmp_path.stat().st_mtime_ns
+    folder.check_writable(tmp_path / "out", tmp_path)  # nothing made, the folder's time kept
+    assert list(tmp_path.iterdir()) == [] and tmp_path.stat().st_mtime_ns == stamp
+    no_writing(monkeypatch, tmp_path, unnamed)
+    reason = "Permission denied"  # of the named file, or of the unnamed one itself
+    with pytest.raises(OutputError, match=rf"^--out {tmp_path}/out: cannot write in "
+                                          rf"{tmp_path} \({reason}\)"):
+        folder.check_writable(tmp_path / "out", tmp_path)
 
 
 def test_a_refused_lock_file_is_said_of_out(tmp_path, monkeypatch):

@@ -64,7 +64,9 @@ def ay_range(text):
 
 def main(argv=None):
     p = cli.parser(__doc__, name="handling", scene=True, scene_default=str(HANDLING),
-                   scene_help="the handling scenes file", scene_text="YAML laid over both scenes")
+                   scene_help=(
+                       "the handling scenes file (not your car: give that with --scene_text "
+                       "\"car_file: FILE\")"), scene_text="YAML laid over both scenes")
     p.add_argument("--ay_range", type=ay_range, default=DEFAULT_AY_RANGE,
                    help="LO,HI: the linear range of a_y (m/s²) the gradients are fitted over "
                         "(default: 0.5,3.0)")

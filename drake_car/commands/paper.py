@@ -78,7 +78,9 @@ PAPER_DRIVE = " paper's drive"  # the run with the paper's drive, among the swee
 
 def main(argv=None):
     p = cli.parser(__doc__, name="paper", scene=True, scene_default=str(PAPER_STUDY),
-                   scene_help="the study's scenes file", cluster=True,
+                   scene_help=(
+                       "the study's scenes file, each entry a run (not your car: give that with "
+                       "--scene_text \"car_file: FILE\")"), cluster=True,
                    scene_text="YAML laid over every run's scene")
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: every run at its scene's step only, no "

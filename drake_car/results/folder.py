@@ -71,16 +71,23 @@ def check_output_target(out_dir):
 
 
 def check_writable(out_dir, folder):
-    """Creates and removes a file in ``folder``, where the output's lock and temporary folder
-    go: ``os.access`` says yes to root in /sys or /proc and on a read-only mount, whose first
-    file would fail only after the work."""
+    """Makes a file in ``folder``, where the output's lock and temporary folder go, and lets it
+    go: ``os.access`` says yes to root in /sys or /proc, whose first file would fail only after
+    the work. An unnamed file (O_TMPFILE: the folder is not changed, not even its time) where
+    the file system makes one; else a named file, removed at once (sysfs and procfs, which make
+    neither, refuse it)."""
     try:
-        fd, name = tempfile.mkstemp(prefix=".drake_car-probe-", dir=folder)
+        try:
+            os.close(os.open(folder, os.O_TMPFILE | os.O_WRONLY, 0o600))
+        except (AttributeError, OSError) as e:  # no O_TMPFILE here (not Linux, or this mount)
+            if isinstance(e, OSError) and e.errno not in (errno.EOPNOTSUPP, errno.EISDIR):
+                raise
+            fd, name = tempfile.mkstemp(prefix=".drake_car-probe-", dir=folder)
+            os.close(fd)
+            os.unlink(name)
     except OSError as e:
         raise OutputError(f"--out {out_dir}: cannot write in {folder} ({e.strerror or e}); "
                           "choose a folder you can write in") from None
-    os.close(fd)
-    os.unlink(name)
 
 
 def check_no_run_in_progress(out_dir):
