@@ -69,6 +69,10 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
         "speed_at_place_a_kph": {name: 3.6 * place_values(r.columns, timeline, "speed_mps")[0]
                                  for name, r in study.items()},
         "rod_shift_b_minus_a_m": shifts,
+        # At the scenes' own step (the curves'): a symmetric car holds 0 at place a.
+        "wheel_torque_at_places_Nm": {
+            name: list(place_values(r.columns, timeline, "steering_wheel_torque_Nm"))
+            for name, r in study.items()},
         "split_changes": {name: {k: outcomes[(name, k)] for k in (
             "lr_change_m", "split_change", "split_change_N", "wheel_torque_change_Nm")}
                           for name in study},
