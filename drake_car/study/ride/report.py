@@ -32,15 +32,16 @@ def signed(x, digits=0):
     return f"{round(x, digits) + 0.0:+.{digits}f}"
 
 
-def slope_words(slopes):
-    """What 0.1 of μs costs over the classes: one value for one class (or one value after
-    rounding), else the range."""
+def slope_words(slopes, classes):
+    """What 0.1 of μs costs over the road ``classes`` (one slope each): one value for one
+    class (or one value after rounding), else the range."""
     low, high = signed(min(slopes), 3), signed(max(slopes), 3)
+    fit = "linear fit over μs 0-0.4"
+    if len(slopes) == 1:
+        return f"{low} m/s² per 0.1 of μs ({fit}, class {classes[0]})"
     if low == high:
-        return (f"{low} m/s² per 0.1 of μs (linear fit over μs 0-0.4"
-                + (")" if len(slopes) == 1 else f", the same in its {len(slopes)} classes)"))
-    return (f"{low} to {high} m/s² per 0.1 of μs (linear fit over μs 0-0.4, the "
-            f"{len(slopes)} classes' range)")
+        return f"{low} m/s² per 0.1 of μs ({fit}, the same in classes {', '.join(classes)})"
+    return f"{low} to {high} m/s² per 0.1 of μs ({fit}, classes {', '.join(classes)})"
 
 
 def _value(row, key, digits):
@@ -215,7 +216,7 @@ def summary_text(rows):
                               f"{signed(100 * f)} %, rear {signed(100 * r)} % at μs {m:g}"
                               for c, (a, f, r, m) in sorted(worst.items()))
             lines.append(f"- {strut} strut, {speed:g} km/h: a_w changes by "
-                         f"{slope_words(slopes)}; {parts}; about "
+                         f"{slope_words(slopes, sorted(k[0] for k in sel))}; {parts}; about "
                          f"linear in the rig friction force in {linear} of {len(sel)} classes"
                          + (f" (**not at constant speed**: {off} of "
                             f"{sum(len(v) for v in sel.values())} runs did not hold "
