@@ -69,13 +69,12 @@ def _answers(rows):
 def test_the_why_names_the_runs_that_ended_before_the_pull_distance_and_their_speed():
     rows = _table()
     text = why(STUDY, [r for r in rows if r["role"] == "mc"], "pull_deg")
-    assert text == ("the runs ended before 2 m hands off: each is lengthened to cover it at "
-                    "60 km/h, and they ran at 7.1 km/h before the lane change")
+    assert text == ("the runs ended before 2 m hands off, their length set for 60 km/h and "
+                    "their speed 7.1 km/h")
     mixed = [_row("a", "map", 0.1), _row("b", "map", status="failed"), _row("c", "map")]
-    assert why(STUDY, mixed, "pull_deg") == ("1 of 3 runs ended before 2 m hands off: each is "
-                                             "lengthened to cover it at 60 km/h, and it ran at "
-                                             "7.1 km/h before the lane change; 1 of 3 runs did "
-                                             "not finish")
+    assert why(STUDY, mixed, "pull_deg") == ("1 of 3 runs ended before 2 m hands off, their "
+                                             "length set for 60 km/h and their speed 7.1 km/h; "
+                                             "1 of 3 runs did not finish")
     assert why(STUDY, mixed[:1], "pull_deg") is None
 
 
@@ -87,8 +86,8 @@ def test_answers_never_print_nan_nor_conclude_from_a_pull_not_measured():
         assert f"The pull over {answers.factor(STUDY, STUDY.maps[i].x).label}" in text
     assert text.count("not measured (the runs ended before 2 m hands off") >= 5, text
     assert "the pull not measured (the runs ended" in text  # the jam states
-    assert "pull not measured (the runs ended" in text  # the mitigations
-    assert "the pull not measured (no half-step pair measured it" in text
+    assert "(baseline (μs 0.4): split median 7.95 %, pull not measured (the runs ended" in text
+    assert "the pull not measured (no half-step pair has it" in text
 
 
 def test_a_map_row_with_a_cell_not_measured_draws_no_boundary_through_it():
@@ -110,13 +109,24 @@ def test_a_sign_test_over_too_few_states_is_said_not_to_conclude():
     (text,) = [a for a in _answers(rows) if a.startswith("Mitigations")]
     assert "lower beyond the runs' errors in 100 % of the states: 2 of 2" in text
     assert "Lower than the baseline: none" not in text and "None lowers" not in text
-    assert ("over 2 states a sign test at 5 % cannot conclude (even all 2 states one way give "
-            "p = 0.50; it needs 6 states or more)") in text
+    assert ("No mitigation is judged lower or higher than the baseline: over 2 states a sign "
+            "test at 5 % cannot conclude (even all 2 states one way give p = 0.50; it needs 6 "
+            "states or more)") in text
     assert answers.SIGN_TEST_STATES == 6 and 2 / 2 ** 6 < 0.05 <= 2 / 2 ** 5
     (six,) = [a for a in _answers(_table(pull=0.01, mitigation_states=6))
               if a.startswith("Mitigations")]
     assert "cannot conclude" not in six and "Lower than the baseline: " in six
     assert "Lower than the baseline: none" not in six
+    # One group a state short (a run failed): it alone is not judged, and said so.
+    rows = _table(pull=0.01, mitigation_states=6)
+    short = next(r for r in rows if r["name"] == "mitigation1_0005")
+    short |= _row(short["name"], "mitigation", status="failed", sample=5,
+                  mitigation=short["mitigation"])
+    (text,) = [a for a in _answers(rows) if a.startswith("Mitigations")]
+    assert (f"Not judged against the baseline (over 5 states a sign test at 5 % cannot "
+            f"conclude (even all 5 states one way give p = 0.06; it needs 6 states or more)): "
+            f"{short['mitigation']}.") in text, text
+    assert "Lower than the baseline: " in text
 
 
 def test_a_heat_map_of_values_not_measured_draws_without_numpy_warnings(tmp_path):
@@ -145,10 +155,11 @@ def test_the_report_of_a_study_without_a_pull_says_not_measured_everywhere(tmp_p
     text = report.report(s, "study/")
     assert "nan" not in text.lower().replace("nano", ""), [
         line for line in text.splitlines() if "nan" in line.lower()]
-    assert "(not measured (the runs ended before 2 m hands off" in text  # the maps' captions
-    assert "n/a: the pull not measured (mc: the runs ended before 2 m" in text
+    assert "hands off [deg] over μs × ball-joint offset b [m]: not measured (the runs ended " \
+        "before 2 m hands off" in text  # the maps' captions
+    assert "n/a: the pull not measured (the runs ended before 2 m" in text
     assert "n/a: not measured (the runs ended before 2 m hands off" in text  # the lines
-    assert "- pull_deg: not measured (no half-step pair measured it" in text
+    assert "- pull_deg: not measured (no half-step pair has it" in text
 
 
 @pytest.mark.parametrize("pull", [0.01])

@@ -73,15 +73,15 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None, smoke=None, adapte
                              path=out / name, value_label=unit, noise=errors,
                              unconverged=unconverged, star_label=star, prefix=prefix,
                              missing=why)
-            gaps = ("" if why is None else
-                    f" ({unmeasured.not_measured(why)}: no value and no threshold line)"
-                    if not np.isfinite(values).any() else
-                    f"; n/m marks cells {unmeasured.not_measured(why)}")
-            maps.append({"figure": name, "caption": f"{unit} over {fx.label} × {fy.label}"
-                         + (gaps if gaps.startswith(" (") else "")
-                         + f"; the star is {star}, the line the threshold; x marks cells "
-                         "within their numerical error of it, a square cells not converged "
-                         "at the finest step tried" + (gaps if gaps.startswith(";") else "")})
+            caption = (f"{unit} over {fx.label} × {fy.label}; the star is {star}, the line "
+                       "the threshold; x marks cells within their numerical error of it, a "
+                       "square cells not converged at the finest step tried")
+            if why is not None and not np.isfinite(values).any():
+                caption = (f"{unit} over {fx.label} × {fy.label}: "
+                           f"{unmeasured.not_measured(why)}; no value, no threshold line")
+            elif why is not None:
+                caption += f"; n/m marks the cells {unmeasured.not_measured(why)}"
+            maps.append({"figure": name, "caption": caption})
     lines = tables.line_tables(study, [r for r in rows if r["role"] == "line"])
     if lines:
         figures.lines(lines, study.line_mu_s, split_threshold=threshold,

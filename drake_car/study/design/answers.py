@@ -158,7 +158,7 @@ def _noise_words(study, table, noise):
             words.append(f"up to {scale * noise[key]:.2f} {unit} in {name}")
         else:
             reason = unmeasured_why(study, pairs, key)
-            because = "no half-step pair measured it" + (f": {reason}" if reason else "")
+            because = "no half-step pair has it" + (f": {reason}" if reason else "")
             words.append(f"{name} {not_measured(because)}")
     return " and ".join(words)
 
@@ -205,11 +205,12 @@ def _mitigation_answer(mitigations, noise, pull_why=None):
                 + (f", within them in {p['unresolved']}" if p.get('unresolved') else "")
                 + (f", a run not converged in {p['not_converged']}"
                    if p.get('not_converged') else "") + ")")
+    # The pull's why said once, with the baseline (the groups run the same states).
     text = "; ".join(
         f"{m['mitigation']}: {_median_words(m['split'], '%', 2, 'no run finished')}, "
         + (f"{100 * m['split']['share_above']:.0f} % of states above the threshold, "
            if m["split"].get("n") else "")
-        + f"pull {_median_words(m['pull'], 'deg', 2, pull_why)}; {paired_words(m['paired'])}"
+        + f"pull {_median_words(m['pull'], 'deg', 2, None)}; {paired_words(m['paired'])}"
         for m in ranked)
     judged = [m for m in ranked if m["paired"].get("n", 0) >= SIGN_TEST_STATES]
     not_judged = [m for m in ranked if m not in judged]
@@ -220,13 +221,13 @@ def _mitigation_answer(mitigations, noise, pull_why=None):
     if not_judged:
         counts = sorted({m["paired"].get("n", 0) for m in not_judged})
         n = counts[-1]
-        cannot = (f"Not judged against the baseline: "
-                  + ("every mitigation" if not judged else
-                     ", ".join(m["mitigation"] for m in not_judged))
-                  + f": over {' or '.join(str(c) for c in counts)} states a sign test at "
-                  f"{100 * SIGN_TEST_LEVEL:g} % cannot conclude (even all {n} states one way "
-                  f"give p = {min(1.0, 2 / 2 ** n):.2f}; it needs {SIGN_TEST_STATES} states or "
-                  "more), so the shares of states above are counts, not a verdict.")
+        why = (f"over {' or '.join(str(c) for c in counts)} states a sign test at "
+               f"{100 * SIGN_TEST_LEVEL:g} % cannot conclude (even all {n} states one way give "
+               f"p = {min(1.0, 2 / 2 ** n):.2f}; it needs {SIGN_TEST_STATES} states or more)")
+        cannot = ((f"No mitigation is judged lower or higher than the baseline: {why}, so the "
+                   "shares of states above are counts, not a verdict.") if not judged else
+                  f"Not judged against the baseline ({why}): "
+                  + ", ".join(m["mitigation"] for m in not_judged) + ".")
     if not judged:
         return head + cannot
     helps = [m for m in judged if _better(m["paired"], noise)]

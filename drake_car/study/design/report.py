@@ -137,7 +137,7 @@ def report(s, figures=""):
     if s["noise"]["pairs"] and "pull_deg" not in s["noise"]["levels"]:
         why = (s.get("not_measured") or {}).get("noise")
         lines.append("- pull_deg: " + not_measured(
-            "no half-step pair measured it" + (f": {why}" if why else "")))
+            "no half-step pair has it" + (f": {why}" if why else "")))
     lines += ["", "## Files", "",
               f"`{figures}table.csv`: one row per run (every varied value, every outcome, the "
               "run's key; `pandas.read_csv`); `sweep/runs/<hash>/`: each run's history and "
@@ -149,8 +149,9 @@ def _gaps_note(s, roles, summaries):
     """The line under a table whose pull cells say n/a: not measured, and why."""
     if all(p.get("n") for p in summaries):
         return []
-    why = "; ".join(f"{role}: {w}" for role in roles
-                    if (w := (s.get("not_measured") or {}).get(role)))
+    whys = {role: w for role in roles if (w := (s.get("not_measured") or {}).get(role))}
+    why = (next(iter(whys.values())) if len(set(whys.values())) == 1 else
+           "; ".join(f"{role}: {w}" for role, w in whys.items()))
     return ["", f"n/a: the pull {not_measured(why or None)}."]
 
 

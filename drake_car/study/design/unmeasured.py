@@ -41,9 +41,7 @@ def why(study, rows, outcome):
         if speeds and max(speeds) < asked:
             low, high = min(speeds), max(speeds)
             ran = f"{low:.1f}" if f"{low:.1f}" == f"{high:.1f}" else f"{low:.1f} to {high:.1f}"
-            text += (f": each is lengthened to cover it at {asked:g} km/h, and "
-                     f"{'it' if len(short) == 1 else 'they'} ran at {ran} km/h before the "
-                     "lane change")
+            text += f", their length set for {asked:g} km/h and their speed {ran} km/h"
         parts.append(text)
     if hands_on:
         parts.append(f"{_runs(hands_on, len(rows))} hands on (the Sobol sample's): no pull")
