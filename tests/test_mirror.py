@@ -19,7 +19,10 @@ symmetric state breaks to one of two mirror-image states, ±2.5 µm of rod at 1.
 sign the round-off has (an antisymmetric seed of 1e-14 m on the rack gives the same size). At
 0.5 ms and finer the pairs stay static there and a 1e-12 m seed stays below 1.3e-13 m. So the
 straight-drive test leaves the rotation pairs out after the car has settled, and the mirror
-test bounds the whole law's residual by claim 4's tolerance.
+test bounds the whole law's residual by claim 4's tolerance. The strut's own viscous damper
+beside the dry friction (a user's sets) keeps the mirror too; what a 1 ms launch's break leaves
+at place a depends on the later break-aways it passes through (0.004 N of rack force with the
+damper 0, 8.8 N with 2200 N s/m on the hatch car: docs/accuracy.md "The mirror").
 """
 
 import numpy as np
@@ -37,12 +40,15 @@ def _left_right(history):
             np.max(np.abs(history["Fz_fl_N"] - history["Fz_fr_N"])))
 
 
-@pytest.mark.parametrize("name, pairs, end_s", [
-    ("a_2", "translation", 1.5),  # settling, then the launch to 0.7 s into the speed-up
-    ("a_3", "translation", 1.5),
-    ("a_3", "translation_rotation", 0.8)])  # the whole law: at rest, to the launch
-def test_left_and_right_struts_agree_driving_straight(name, pairs, end_s):
+@pytest.mark.parametrize("name, pairs, end_s, damper_Nspm", [
+    ("a_2", "translation", 1.5, 0.0),  # settling, then the launch to 0.7 s into the speed-up
+    ("a_3", "translation", 1.5, 0.0),
+    ("a_3", "translation_rotation", 0.8, 0.0),  # the whole law: at rest, to the launch
+    # a user's set keeping the strut's own viscous damper beside the dry friction
+    ("a_3", "translation_rotation", 0.8, 2200.0)])
+def test_left_and_right_struts_agree_driving_straight(name, pairs, end_s, damper_Nspm):
     scene = paper_scene(name, f"{{friction: {{pairs: {pairs}}}, "
+                              f"car: {{front: {{strut_damping_Nspm: {damper_Nspm}}}}}, "
                               f"simulator: {{end_time_s: {end_s}}}}}")
     run = simulate(scene)
     rods, loads = _left_right(run.history)

@@ -189,7 +189,24 @@ def places_tables(s):
                                split_cell(d["split_change"], 100, 2),
                                split_cell(d["wheel_torque_change_Nm"], 1, 3),
                                ", ".join(f"{1e3 * h:g}" for h in d["split_change"]["steps_s"])))
-    return lines + [""]
+    return lines + [""] + _torque_at_places(s)
+
+
+def _torque_at_places(s):
+    """The steering-wheel torque at places a and b: driving straight at place a a symmetric
+    car holds none; what a run holds there is its launch's broken mirror, which the change
+    carries (docs/accuracy.md "The mirror")."""
+    torques = s.get("wheel_torque_at_places_Nm")
+    if not torques:
+        return []
+    cells = ", ".join(f"{n} {a:+.3f} / {b:+.3f}" for n, (a, b) in sorted(torques.items()))
+    return [f"The steering-wheel torque at place a / place b [N m], at each run's own step: "
+            f"{cells}. Driving straight at place a the car is symmetric and holds none: a "
+            "torque there is the launch's broken mirror (round-off amplified where both "
+            "struts' rotation pairs break away together, in the friction law's Stribeck band; "
+            "a coarse step's, docs/accuracy.md \"The mirror\"). A case b run continues its "
+            "case a's launch, so their changes above differ by twice that torque; the torques "
+            "at place b are the ones to compare mirrored.", ""]
 
 
 def runs_and_files(s):
