@@ -47,8 +47,8 @@ def _car_lines(car, at_rest):
         f"- the strut on the rig: its {at_rest['side']} front strut, ball-joint offset b = "
         f"{1e3 * car['ball_joint_offset_b_m']:.1f} mm, guide length l = "
         f"{1e3 * car['guide_length_l_m']:.1f} mm, rod radius r = "
-        f"{1e3 * car['rod_radius_r_m']:.1f} mm, rod guide {1e3 * car['guide_below_top_mount_m']:.0f}"
-        f" mm below the top mount, top mount to lower mount {1e3 * car['strut_length_m']:.0f} mm",
+        f"{1e3 * car['rod_radius_r_m']:.1f} mm, rod guide "
+        f"{1e3 * car['guide_below_top_mount_m']:.0f} mm below the top mount, top mount to lower mount {1e3 * car['strut_length_m']:.0f} mm",
         f"- the corner load it is loaded as: {at_rest['corner_load_N']:.1f} N, the settled "
         f"car's {at_rest['side']} front tyre load at rest (lubricated struts, vertical tyres)",
         ""]
