@@ -67,7 +67,7 @@ from drake_car.study.paper.claims import (
 from drake_car.study.paper.outcomes import (
     at_one_step, read_outcomes, study_outcomes, write_outcomes)
 from drake_car.study.paper.local_route import accurate_runs
-from drake_car.study.paper.report import report, summary
+from drake_car.study.paper.report import report, summary, verdict_line
 from drake_car.sweep.refine import check_twin, halved, loosened
 from drake_car.sweep.runner import run_scenes
 
@@ -181,13 +181,8 @@ def main(argv=None):
         write_json(out / "summary.json", s)
         (out / "report.md").write_text(report(s))
         claims = s["claims"]
-    judged = [c for c in claims if c["reproduced"] is not None]
-    reproduced = sum(bool(c["reproduced"]) for c in judged)
-    undecided = sum(c.get("decided") is False for c in claims)
-    left_out = len(claims) - len(judged)
-    print(f"{reproduced} of {len(judged)} claims reproduced, {undecided} undecided at the "
-          "finest step tried" + (f", {left_out} not applicable to these friction sets"
-                                 if left_out else "")
+    steps_s = sorted({scene.plant.time_step for scene in scenes.values()})
+    print(verdict_line(claims, verified=not args.no_verify, steps_s=steps_s)
           + f"; wrote {args.out} (report: {args.out / 'report.md'})")
 
 

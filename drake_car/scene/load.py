@@ -15,6 +15,7 @@ from pathlib import Path
 from pydrake.common.yaml import yaml_dump_typed, yaml_load
 
 from drake_car.data import resource
+from drake_car.scene.borrowed import say_borrowed
 from drake_car.law.checks import ParameterError, checked, excerpt, one_line
 from drake_car.scene.car_file import derived_note, with_car_file
 from drake_car.scene.car_limits import check_car
@@ -228,6 +229,7 @@ def check_scene(scene: Scene, where="scene") -> Scene:
     except ParameterError as e:
         raise SceneError(f"{where}: {e}{derived_note(scene, e.key)}") from None
     announce_large_road(scene, where)
+    say_borrowed(scene, where)
     return scene
 
 

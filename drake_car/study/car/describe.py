@@ -11,6 +11,9 @@ from drake_car.law.tyre.plausibility import combined_slip_note
 from drake_car.model.geometry import design_axle_loads_N, whole_car_cog_to_front_m
 from drake_car.model.loading import read_tyre, tir_path
 from drake_car.model.parameters import CarParameters
+from drake_car.scene.car_file import car_of_file
+from drake_car.scene.borrowed import (
+    drive_limit, drive_limit_words, relaxation, relaxation_words)
 from drake_car.scene.scene import DEFAULT_TIR, LinearTyre, MagicFormula, PrescribedRotation
 
 
@@ -59,20 +62,39 @@ def drive_short(scene):
 
 
 def tyre_facts(scene):
-    """{"model", "file", "form", "combined_slip", "combined_note"} of the scene's tyres."""
+    """{"model", "file", "form", "combined_slip", "combined_note", "relaxation"} of the
+    scene's tyres ("relaxation": ``scene.borrowed.relaxation``, the lengths that ran and their
+    source)."""
     tyres = scene.tyres
     if not isinstance(tyres, (MagicFormula, LinearTyre)):
         return {"model": type(tyres).__name__, "file": None, "form": None,
-                "combined_slip": None, "combined_note": None}
+                "combined_slip": None, "combined_note": None, "relaxation": None}
     tyre = read_tyre(tyres.tir_file)
     combined = getattr(tyres, "combined_slip", None)
     return {"model": type(tyres).__name__, "file": tyres.tir_file, "form": tyre.form,
             "combined_slip": combined,
-            "combined_note": combined_slip_note(tyre) if combined else None}
+            "combined_note": combined_slip_note(tyre) if combined else None,
+            "relaxation": relaxation(scene)}
 
 
-def car_facts(scene):
-    """JSON-ready facts of the car that ran (``scene``)."""
+def own_strut_damping(scenes):
+    """(N s/m, its source in words) of the car's own front strut damping, for a study whose
+    runs set it per friction set (the paper's): every run's where they agree (the user's scene
+    gave it), else the car file's, else the shipped Escort's (``CarParameters``)."""
+    values = {s.car.front.strut_damping_Nspm for s in scenes}
+    if len(values) == 1:
+        return values.pop(), "every run's scene"
+    car_file = scenes[0].car_file
+    if car_file:
+        return car_of_file(car_file).front.strut_damping_Nspm, f"the car file `{car_file}`"
+    return (CarParameters().front.strut_damping_Nspm,
+            "the shipped Escort's, `drake_car/model/parameters.py`")
+
+
+def car_facts(scene, *, strut_damping=None):
+    """JSON-ready facts of the car that ran (``scene``). ``strut_damping``: (N s/m, its source
+    in words) of the car's own strut damping where the runs' damping is a study's (the paper's
+    friction sets: ``own_strut_damping``); None: the scene's."""
     car = scene.car
     loads = design_axle_loads_N(car)
     f, r = car.front, car.rear
@@ -88,13 +110,16 @@ def car_facts(scene):
         "ball_joint_offset_b_m": f.ball_joint_offset_b_m,
         "guide_length_l_m": f.guide_length_l_m,
         "wheel_rate_Npm": {"front": f.wheel_rate_Npm, "rear": r.wheel_rate_Npm},
-        "strut_damping_Nspm": f.strut_damping_Nspm,
+        "strut_damping_Nspm": f.strut_damping_Nspm if strut_damping is None
+        else strut_damping[0],
+        "strut_damping_source": None if strut_damping is None else strut_damping[1],
         "rear_wheel_damping_Nspm": r.wheel_damping_Nspm,
         "anti_roll_bar_Nm_per_rad": {"front": f.anti_roll_bar_Nm_per_rad,
                                      "rear": r.anti_roll_bar_Nm_per_rad},
         "top_mount_stiffness_Npm": f.top_mount_stiffness_Npm,
         "rack_gain_m_per_rad": f.rack_gain_m_per_rad,
         "drive": drive_words(scene),
+        "drive_limit": drive_limit(scene),
         "tyres": tyre_facts(scene),
     }
 
@@ -120,14 +145,20 @@ def car_lines(facts, *, damping=True):
         f"- **front struts** (McPherson): ball-joint offset b = "
         f"{1e3 * facts['ball_joint_offset_b_m']:.1f} mm, guide length l = "
         f"{1e3 * facts['guide_length_l_m']:.0f} mm, wheel rate {rate['front'] / 1e3:.1f} kN/m"
-        + (f", viscous damping {facts['strut_damping_Nspm']:g} N s/m in the strut"
+        + (f", the car's own viscous damping in the strut {facts['strut_damping_Nspm']:g} N "
+           f"s/m ({facts['strut_damping_source']}; the friction sets run with their own)"
+           if facts.get("strut_damping_source") else
+           f", viscous damping {facts['strut_damping_Nspm']:g} N s/m in the strut"
            if damping and facts["strut_damping_Nspm"] else
            ", no viscous damping in the strut" if damping else "")
         + f"; top mount {'rigid' if mount == 0 else f'elastic, {mount / 1e6:g} MN/m'}; "
         f"anti-roll bars {bar['front']:g} / {bar['rear']:g} N m/rad (front / rear); rear "
         f"wheel rate {rate['rear'] / 1e3:.1f} kN/m, damping "
         f"{facts['rear_wheel_damping_Nspm']:g} N s/m.",
-        f"- **drive**: {facts['drive']}; **steering**: rack gain c = "
+        f"- **drive**: {facts['drive']}"
+        + ("" if "drive_limit" not in facts else
+           f", its torque limit {drive_limit_words(facts['drive_limit'])}")
+        + f"; **steering**: rack gain c = "
         f"{1e3 * facts['rack_gain_m_per_rad']:g} mm of rack per steering-wheel radian "
         "(`car.front.rack_gain_m_per_rad`: the steering-wheel torque is the rack force times "
         "c).",
@@ -146,4 +177,6 @@ def tyre_words(t):
     text = f"{how} of `{t['file']}` ({t['form']}{slip})"
     if t["combined_note"]:
         text += f"; **combined_slip: true acts less than its name says**: {t['combined_note']}"
+    if t.get("relaxation"):
+        text += "; " + relaxation_words(t["relaxation"])
     return text

@@ -9,6 +9,7 @@ user's scene states is run as given."""
 
 import dataclasses
 
+from drake_car.scene.borrowed import drive_limit, drive_limit_words
 from drake_car.scene.manoeuvres import Timeline
 from drake_car.sim import lane_change_cache
 from drake_car.sim.lane_change_calibration import adapted
@@ -40,8 +41,9 @@ def adapted_base(study, *, stated=None):
     base, found = adapted(dataclasses.replace(study.base, manoeuvre=m), run=simulate)
     new = base.manoeuvre
     if new.timeline.speed_up_s != study.base.manoeuvre.timeline.speed_up_s:
-        changes.append(f"the launch {new.timeline.speed_up_s:g} s, what this car's drive allows "
-                       f"(the shipped study's {study.base.manoeuvre.timeline.speed_up_s:g} s)")
+        changes.append(f"the launch {new.timeline.speed_up_s:g} s, what the car allows with the "
+                       f"drive's torque limit {drive_limit_words(drive_limit(base))} (the "
+                       f"shipped study's {study.base.manoeuvre.timeline.speed_up_s:g} s)")
     if found is not None:
         changes.append(f"the rack calibrated for this car: {1e3 * new.amplitude_m:.2f} mm, "
                        f"second lobe {new.second_lobe:.3f} ({found.get('source', 'calibrated')})")

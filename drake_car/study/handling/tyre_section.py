@@ -16,6 +16,7 @@ from drake_car.law.tyre.magic_formula import (
 from drake_car.law.tyre.plausibility import wheel_load_note
 from drake_car.model.geometry import design_axle_loads_N
 from drake_car.model.loading import tir_path
+from drake_car.scene.borrowed import relaxation, relaxation_words
 from drake_car.scene.limits import warn_radius
 from drake_car.scene.scene import DEFAULT_TIR
 from drake_car.study.handling import tyre_curves
@@ -62,21 +63,7 @@ def facts(scene):
             "radial_stiffness_Npm": scene.car.tyre.radial_stiffness_Npm,
             "radial_damping_Nspm": scene.car.tyre.radial_damping_Nspm,
             "vertical_from_file": scene.tyres.vertical_from_file,
-            "relaxation_used": _relaxation_used(scene, tyre)}
-
-
-def _relaxation_used(scene, tyre):
-    """What the runs relax with: the text for the report."""
-    slip = scene.tyres.slip
-    if not slip.relaxation:
-        return "none (tyres.slip.relaxation: false, steady-state slips)"
-    if slip.relaxation_lengths_from_file:
-        wheel_N = scene.car.mass.total_mass_kg * 9.81 / 4
-        sigma = relaxation_lengths_m(tyre, wheel_N)
-        return (f"the file's at the wheel load at rest ({wheel_N:.0f} N): σκ {sigma[0]:.3f} m, "
-                f"σα {sigma[1]:.3f} m")
-    return (f"tyres.slip's σκ {slip.relaxation_length_long_m:g} m, σα "
-            f"{slip.relaxation_length_lat_m:g} m")
+            "relaxation_used": relaxation_words(relaxation(scene))}
 
 
 def write(out, scene):
@@ -217,7 +204,7 @@ def section(result):
            "each other in combined slip (the budget's drive terms shrink with it)."
            if t["no_combined_fit"] else "")
         + "".join(f" Plausibility: {w}." for w in t["warnings"])
-        + f" The runs relax with {t['relaxation_used']}."
+        + f" The runs relax with: {t['relaxation_used']}."
         + f" Radial spring and damper: {t['radial_stiffness_Npm']:g} N/m, "
         f"{t['radial_damping_Nspm']:g} N s/m ("
         + ("the file's VERTICAL_STIFFNESS and VERTICAL_DAMPING: tyres.vertical_from_file"

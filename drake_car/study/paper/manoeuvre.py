@@ -10,6 +10,7 @@ import logging
 
 import numpy as np
 
+from drake_car.scene.borrowed import drive_limit_words
 from drake_car.scene.launch import launch_description
 from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH, manoeuvre_measures
 from drake_car.scene.manoeuvres import PAPER_SHIFT_M, PAPER_SPEED_UP_S
@@ -99,10 +100,12 @@ def manoeuvre_section(s):
     lines = ["## The manoeuvre as it ran", "",
              f"- **launch**: 0 to {la['speed_kph']:g} km/h in {la['speed_up_s']:g} s"
              + (" (the paper's)" if paper else f" (the paper's {la['paper_speed_up_s']:g} s is "
-                "more than this car's drive allows)")
+                "more than the car allows with this drive)")
              + f"; the speed profile asks {la['profile_peak_accel_mps2']:.2f} m/s² at its peak. "
-             f"This car's drive allows {la['drive_accel_mps2']:.2f} m/s² (its wheel torque "
-             f"limit through its rolling radius and mass with the wheels' spin inertia), its "
+             f"The drive allows {la['drive_accel_mps2']:.2f} m/s² (its torque limit"
+             + (f" {drive_limit_words(la['drive_limit'])}," if "drive_limit" in la else "")
+             + " through the car's rolling radius and mass with the wheels' spin inertia), "
+             f"the car's "
              f"{la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² (peak μ "
              f"{la['peak_mu']:.2f} at the driven axle's {la['driven_load_N']:.0f} N during the "
              f"launch, 90 % of it [EST]): it is limited by {la['limited_by']}, its shortest "

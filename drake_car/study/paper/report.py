@@ -11,7 +11,7 @@ at the finest step tried"."""
 import dataclasses
 
 from drake_car.scene.car_file import car_of_file
-from drake_car.study.car.describe import car_facts, car_lines
+from drake_car.study.car.describe import car_facts, car_lines, own_strut_damping
 from drake_car.study.paper import manoeuvre
 from drake_car.study.paper import report_sections as sections
 from drake_car.study.paper.local_route import error_method, resolution_section
@@ -54,7 +54,7 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
         "friction_sets": sets,
         "set_roles": {"high": roles_.high, "others": list(roles_.others),
                       "fig16": roles_.fig16},
-        "car": car_facts(scenes[0]),
+        "car": car_facts(scenes[0], strut_damping=own_strut_damping(scenes)),
         "car_file_strut_damping_Nspm": (car_of_file(scenes[0].car_file).front.strut_damping_Nspm
                                         if scenes[0].car_file else None),
         "paper_car": applies(scenes),
@@ -82,6 +82,23 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
         "wall_s": wall_s,
         "provenance": provenance,
     }
+
+
+def verdict_line(claims, *, verified, steps_s):
+    """The command's last line: how many claims were reproduced and how they were judged
+    (``verified``: against their numerical errors at the finest step tried; else at the runs'
+    steps ``steps_s``, no error estimated: --no_verify)."""
+    judged = [c for c in claims if c["reproduced"] is not None]
+    reproduced = sum(bool(c["reproduced"]) for c in judged)
+    left_out = len(claims) - len(judged)
+    if verified:
+        undecided = sum(c.get("decided") is False for c in claims)
+        how = f", {undecided} undecided at the finest step tried"
+    else:
+        how = (f" at the runs' step ({', '.join(f'{1e3 * t:g}' for t in steps_s)} ms), no "
+               "numerical error estimated (--no_verify)")
+    return (f"{reproduced} of {len(judged)} claims reproduced{how}"
+            + (f", {left_out} not applicable to these friction sets" if left_out else ""))
 
 
 # -- the report ------------------------------------------------------------------------------

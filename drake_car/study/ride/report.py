@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from drake_car.scene.borrowed import drive_limit, drive_limit_words
 from drake_car.scene.launch import launch_limits
 from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH
 from drake_car.study.car.describe import car_facts, car_lines
@@ -217,8 +218,9 @@ def launch_text(rows, scene):
     if longer:
         limits = launch_limits(scene)
         text += (f" (longer than the asked {', '.join(f'{speed_up_s(v):g}' for v, _ in longer)}"
-                 f" s: this car's drive allows {limits.max_accel_mps2:.2f} m/s², limited by "
-                 f"{limits.limited_by})")
+                 f" s: the car allows {limits.max_accel_mps2:.2f} m/s² with its drive and tyres, "
+                 f"limited by {limits.limited_by}; the drive's torque limit "
+                 f"{drive_limit_words(drive_limit(scene))})")
     return text
 
 

@@ -1,0 +1,136 @@
+"""Values a car runs with that are the shipped car's unless its scene states its own, each said
+with its source so that no report calls the shipped car's value "this car's":
+
+- the drive's torque limit (``drive_limit``): ``OpenDifferential.max_wheel_torque_Nm``, by
+  default the shipped Escort's estimate (1740 N m at the wheels [EST], ``scene.scene``). A car
+  file holds the car's geometry, masses and rates, not its drive: the drive is the scene's
+  ``drive`` section, set with ``SET_DRIVE``;
+- the tyres' relaxation lengths (``relaxation``): ``tyres.slip``'s, by default the shipped
+  tyre's estimates (σκ 0.15 m, σα 0.45 m [EST], ``law.tyre.slip``), or the tyre file's own
+  (PAC2002 PTX*/PTY*, MF 6.x carcass stiffnesses) at the car's wheel load at rest with
+  ``tyres.slip.relaxation_lengths_from_file: true``.
+
+Every report that states the drive's limit or describes the tyres gives these facts (the value
+that ran, where it came from, how to set one's own). Where the scene is loaded (``scene.load.
+check_scene``), ``say_borrowed`` warns on stderr, once per process and value: a car file run with
+the default drive torque, and a tyre file with relaxation data of its own that is not used."""
+
+import logging
+
+from drake_car.law.tyre.magic_formula import relaxation_lengths_m, relaxation_source
+from drake_car.law.tyre.slip import SlipOptions
+from drake_car.model.loading import read_tyre
+from drake_car.scene.limits import wheel_load_at_rest_N
+from drake_car.scene.scene import LinearTyre, MagicFormula, OpenDifferential
+
+log = logging.getLogger(__name__)
+_SAID = set()  # the warnings already given in this process
+
+SET_DRIVE = '--scene_text "drive: !OpenDifferential {max_wheel_torque_Nm: ...}"'
+USE_FILE_RELAXATION = ("tyres.slip.relaxation_lengths_from_file: true (e.g. --scene_text "
+                       '"tyres: {slip: {relaxation_lengths_from_file: true}}")')
+_FILE_SOURCE = {"PTX/PTY": "PTX*/PTY*", "carcass": "its carcass stiffnesses"}
+
+
+def drive_limit(scene):
+    """{"max_wheel_torque_Nm", "source": "shipped" (the default, the Escort's estimate) or
+    "scene"} of the scene's open differential; None for a drive without a torque limit (the
+    paper's prescribed rotation)."""
+    drive = scene.drive
+    if not isinstance(drive, OpenDifferential):
+        return None
+    shipped = drive.max_wheel_torque_Nm == OpenDifferential().max_wheel_torque_Nm
+    return {"max_wheel_torque_Nm": drive.max_wheel_torque_Nm,
+            "source": "shipped" if shipped else "scene"}
+
+
+def drive_limit_words(limit):
+    """The drive's torque limit with its source, in words (``limit``: ``drive_limit``'s)."""
+    if limit is None:
+        return "no torque limit (the paper's prescribed rotation: stiff servos)"
+    text = f"{limit['max_wheel_torque_Nm']:g} N m at the driven wheels"
+    if limit["source"] == "scene":
+        return text + " (the scene's `drive.max_wheel_torque_Nm`)"
+    return (text + " (`drive.max_wheel_torque_Nm`'s default: the shipped Escort's estimate [EST], "
+            "its 1.9 l engine's ~150 N m through first gear and final drive; another car's: "
+            f"{SET_DRIVE})")
+
+
+def relaxation(scene):
+    """The tyres' relaxation as it runs (JSON-ready), None for tyres without slip:
+    {"used_m": [σκ, σα] or None (steady-state slips), "source": "file", "shipped" (the
+    defaults of ``SlipOptions``) or "scene" (``tyres.slip``'s own), "wheel_load_N",
+    "file_source": the file's relaxation data (``relaxation_source``) or None, "file_m": its
+    lengths at the wheel load at rest or None}."""
+    tyres = scene.tyres
+    if not isinstance(tyres, (MagicFormula, LinearTyre)):
+        return None
+    tyre = read_tyre(tyres.tir_file)
+    load = wheel_load_at_rest_N(scene.car)
+    file_source = relaxation_source(tyre)
+    file_m = None if file_source is None else list(relaxation_lengths_m(tyre, load))
+    slip, default = tyres.slip, SlipOptions()
+    lengths = [slip.relaxation_length_long_m, slip.relaxation_length_lat_m]
+    if not slip.relaxation:
+        used, source = None, "none"
+    elif slip.relaxation_lengths_from_file:
+        used, source = file_m, "file"
+    else:
+        shipped = lengths == [default.relaxation_length_long_m,
+                              default.relaxation_length_lat_m]
+        used, source = lengths, "shipped" if shipped else "scene"
+    return {"used_m": used, "source": source, "wheel_load_N": load,
+            "file": tyres.tir_file, "file_source": file_source, "file_m": file_m}
+
+
+def file_relaxation_unused(r):
+    """Whether the tyre file has relaxation data that the runs do not use."""
+    return r is not None and r["file_m"] is not None and r["source"] in ("shipped", "scene")
+
+
+def relaxation_words(r):
+    """The relaxation lengths that ran and their source, in words (``r``: ``relaxation``'s);
+    where the file's own are not used, says so and how to use them."""
+    if r is None:
+        return "no slip (no relaxation)"
+    if r["source"] == "none":
+        text = "no relaxation (tyres.slip.relaxation: false: steady-state slips)"
+    else:
+        sk, sa = r["used_m"]
+        text = f"relaxation lengths σκ {sk:.3g} m, σα {sa:.3g} m: " + (
+            f"the tyre file's ({_FILE_SOURCE[r['file_source']]}) at the wheel load at rest, "
+            f"{r['wheel_load_N']:.0f} N" if r["source"] == "file" else
+            "the shipped tyre's estimates [EST] (`tyres.slip`, `drake_car/law/tyre/slip.py`)"
+            if r["source"] == "shipped" else "the scene's `tyres.slip`")
+    if file_relaxation_unused(r):
+        sk, sa = r["file_m"]
+        text += (f"; **the tyre file has its own, not used** ({_FILE_SOURCE[r['file_source']]}: "
+                 f"σκ {sk:.3g} m, σα {sa:.3g} m at {r['wheel_load_N']:.0f} N): use them with "
+                 f"{USE_FILE_RELAXATION}")
+    return text
+
+
+def say_borrowed(scene, where="scene"):
+    """Warns on stderr, once per process and value, where a loaded scene's car runs with the
+    shipped car's drive torque or leaves its tyre file's relaxation data unused."""
+    limit = drive_limit(scene)
+    if scene.car_file and limit is not None and limit["source"] == "shipped":
+        key = ("drive", limit["max_wheel_torque_Nm"])
+        if key not in _SAID:
+            _SAID.add(key)
+            log.warning("%s: car_file %s runs with the drive's torque limit "
+                        "drive.max_wheel_torque_Nm = %g N m, the shipped Escort's estimate "
+                        "[EST], not this car's: it sets the launch; set your car's with %s",
+                        where, scene.car_file, limit["max_wheel_torque_Nm"], SET_DRIVE)
+    if isinstance(scene.tyres, (MagicFormula, LinearTyre)) and scene.tyres.slip.relaxation \
+            and not scene.tyres.slip.relaxation_lengths_from_file:
+        r = relaxation(scene)
+        key = ("relaxation", r["file"], tuple(r["used_m"]))
+        if file_relaxation_unused(r) and key not in _SAID:
+            _SAID.add(key)
+            log.warning("%s: tyres.tir_file %s has relaxation data of its own (%s: σκ %.3g m, "
+                        "σα %.3g m at %.0f N), not used: the runs relax with tyres.slip's σκ "
+                        "%g m, σα %g m%s; use the file's with %s", where, r["file"],
+                        _FILE_SOURCE[r["file_source"]], *r["file_m"], r["wheel_load_N"],
+                        *r["used_m"], " (the shipped tyre's estimates [EST])"
+                        if r["source"] == "shipped" else "", USE_FILE_RELAXATION)
