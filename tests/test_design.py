@@ -316,7 +316,7 @@ def test_answers_say_when_no_pull_was_measured():
     jam = {"runs": 3, "split": {"n": 3, "median": 0.5, "p90": 1.1, "share_above": 1 / 3},
            "pull": {"n": 0}}  # every run ended before the pull distance
     (first,) = design_answers.answers(study, [], None, jam, [], {})
-    assert "no pull measured" in first and "0.50 %" in first
+    assert "the pull not measured" in first and "0.50 %" in first
 
 
 def test_the_study_s_runs():

@@ -179,6 +179,12 @@ def test_the_command_puts_the_scene_car_on_the_rig(tmp_path):
     report = (out / "report.md").read_text()  # the same numbers, for a reader
     assert f"N = {expected.normal_N:.1f} N" in report, report[:600]
     assert report.count("\n| 0.") == len(sides) * 2, "a row per rig run (two friction sets)"
+    # The car named, and the scene that ran saved: it loads back to the same scene.
+    assert "front.ball_joint_offset_b_m = 0.06" in report.splitlines()[0], report[:300]
+    assert "b = 60.0 mm" in report and f"{expected.corner_load_N:.1f} N" in report
+    from drake_car.scene.load import dump_scene, load_scene
+    saved = load_scene(out / "scene.yaml", child="scene")
+    assert dump_scene(saved) == dump_scene(car_scene("settle_jammed", text))
 
 
 def test_a_rig_run_whose_loop_cannot_be_analysed_is_a_row_that_says_why():

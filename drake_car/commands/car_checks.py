@@ -5,7 +5,9 @@ the car settling with jammed struts. Writes into DIR:
 
   hard_points.csv  the car's hard-point table: its inputs (a car file's points, or today's
                parameters) beside what the model derives (b, kingpin, caster, scrub radius,
-               the strut's and spring's inclinations, the sprung mass's CoG, ride frequencies)
+               the strut's and spring's inclinations, the sprung mass's CoG, ride frequencies);
+               a row the scene's car: values changed against the car file's (or the shipped
+               car's) is marked "input (scene)" or "moved (scene)", its value beside
   settle/      the lubricated car settling (drake-car-run's files, settle.json)
   kinematics/  kinematics.csv, steering.csv and their plots
   jammed/      the car settling with μs = 0.4 (scene car.yaml:settle_jammed), its replay.html

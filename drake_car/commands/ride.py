@@ -28,6 +28,7 @@ from drake_car.scene.load import parse_scene_option
 from drake_car.study.ride.analysis import collect
 from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_scenes
 from drake_car.study.ride.report import write_outputs
+from drake_car.sweep.holdings import none_of_these
 from drake_car.sweep.runner import run_sweep
 from drake_car.results.folder import OutputError
 from drake_car.sweep.store import (
@@ -93,8 +94,9 @@ def main(argv=None):
     runs = finished_runs(args.out, scenes)
     rows = collect(runs, lambda scene: analysed_from_s(scene, studies[0]))
     if not rows:
-        raise ParameterError("--out", str(args.out), "holds no finished run with its "
-                             "half-step twin (run without --no_run first)")
+        raise ParameterError("--out", str(args.out), none_of_these(
+            args.out, scenes, runs, "this car's ride runs" if args.scene else
+            "this scene's ride runs" if args.scene_text else "the shipped car's ride runs"))
     with files_into(args.out) as out:  # each file whole
         write_outputs(out, rows, runs, studies[0], time.perf_counter() - began)
     print(f"wrote {args.out / 'report.md'} ({len(rows)} runs with their twins)")

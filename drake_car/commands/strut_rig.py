@@ -16,12 +16,15 @@ into DIR:
   synthetic.csv, fit.json
                    the synthetic measured loop (the rig with the scene's law, else μs 0.3,
                    μd 0.22, at the car's side load at rest, plus noise) and the fit to it
-  report.md        the car's strut at rest, every rig run's break-away and sliding, the fit
+  report.md        the car and its strut (car file, mass, b, l, r, the corner load), its
+                   strut at rest, every rig run's break-away and sliding, the fit
+  scene.yaml       the scene whose car's strut ran (drake-car-strut-rig --scene it reruns it)
   measured_fit.json  with --measured CSV (columns stroke_m in m, force_N in N, optionally
                    t_s; one row per sample), the test's --side_force_N and where it acts,
                    --side_force_point_below_top_m (default 0: the top mount, where the rig's
                    own loops and at_rest.json apply it): the fit, whether it is a confident
-                   value, where the side force acted, the test's options
+                   value, where the side force acted, the test's options, the car (and
+                   scene.yaml, the scene whose car's strut the loop is fitted on)
 
 A measured loop is checked against the rig it claims to come from before it is fitted
 (study/rig/measured.py): a stroke beyond the strut's travel (a stroke in mm), a force beyond
@@ -51,7 +54,8 @@ from drake_car.study.rig.figures import plot_loops, plot_side_load
 from drake_car.study.rig.fit import fit_loop_file
 from drake_car.study.rig.loops import SYNTHETIC_NOISE, rig_study
 from drake_car.study.rig.measured import side_force_where
-from drake_car.study.rig.report import report
+from drake_car.study.rig.report import report, strut_facts
+from drake_car.scene.load import dump_scene_file
 
 
 def main(argv=None):
@@ -98,19 +102,22 @@ def main(argv=None):
             sample_period_s=args.sample_period_s)
         side_force = f"{options.side_force_N:g} N {side_force_where(car.front, options)}"
         with output_folder(args.out) as out:
+            write_text(out / "scene.yaml", dump_scene_file(scene, "drake-car-strut-rig"))
             write_json(out / "measured_fit.json", provenance(
-                side_force=side_force, fit=fit.summary(), options=vars(options),
+                car=strut_facts(scene), side_force=side_force, fit=fit.summary(),
+                options=vars(options),
                 taken_from_the_loop=notes))
         print(f"side force {side_force}: {fit.line()}")
         return
     study = rig_study(scene, quick=args.quick)
     options, h, stroke, force, fit = study.synthetic
-    rest = study.at_rest.summary()
+    rest, facts = study.at_rest.summary(), strut_facts(scene)
     with output_folder(args.out) as out:
-        write_json(out / "at_rest.json", provenance(scene=scene.name, at_rest=rest))
+        write_text(out / "scene.yaml", dump_scene_file(scene, "drake-car-strut-rig"))
+        write_json(out / "at_rest.json", provenance(scene=scene.name, car=facts, at_rest=rest))
         plot_loops(study.loops, out / "loops.png",
-                   f"Strut side-load rig: {scene.name}'s front strut, side force at the top "
-                   f"mount, 10 mm at 0.5 Hz")
+                   f"Strut side-load rig: {facts['car_file'] or scene.name}'s front strut, "
+                   "side force at the top mount, 10 mm at 0.5 Hz")
         plot_side_load(study.rows, out / "side_load.png")
         write_csv(out / "rig.csv", {k: [r[k] for r in study.rows] for k in study.rows[0]})
         write_csv(out / "synthetic.csv", {"t_s": h["t"], "stroke_m": stroke, "force_N": force})
@@ -122,7 +129,7 @@ def main(argv=None):
             fit=fit.summary(), runs=study.runs,
             wall_s=time.time() - start, cpu_s=time.process_time() - cpu))
         write_text(out / "report.md", report(
-            scene_name=scene.name, at_rest=rest, rows=study.rows, law=study.synthetic_law,
+            car=facts, at_rest=rest, rows=study.rows, law=study.synthetic_law,
             fit=fit, runs=study.runs, prov=provenance()))
     print(f"the car's strut at rest: N = {rest['car_normal_N']:.1f} N; on the rig "
           f"{rest['rig_side_force_N']:.1f} N "

@@ -105,6 +105,27 @@ def wheel_load_at_rest_N(car):
 RADIUS_NOTE = 0.02
 
 
+def radius_note(tir_file, car):
+    """What a tyre file whose UNLOADED_RADIUS is more than ``RADIUS_NOTE`` from the car's
+    ``tyre.unloaded_radius_m`` means for a run (None when they agree)."""
+    tyre = read_tyre(tir_file)
+    if abs(tyre.UNLOADED_RADIUS / car.tyre.unloaded_radius_m - 1) <= RADIUS_NOTE:
+        return None
+    return (f"tyres.tir_file {tir_file}: UNLOADED_RADIUS {tyre.UNLOADED_RADIUS:.3f} m, the car's "
+            f"tyre.unloaded_radius_m {car.tyre.unloaded_radius_m:.3f} m: the wheels are placed, "
+            "driven and rolled on the car's; the Magic Formula's rolling-resistance and aligning "
+            "moments (and relaxation lengths taken from the file) take the file's")
+
+
+def warn_radius(tir_file, car):
+    """``radius_note`` on stderr (once per file and radius in a process); returns it."""
+    note = radius_note(tir_file, car)
+    if note is not None and note not in _SAID:
+        _SAID.add(note)
+        log.warning("%s", note)
+    return note
+
+
 def _check_tyre_file(scene):
     tyres, car = scene.tyres, scene.car
     tyre = read_tyre(tyres.tir_file)
@@ -117,14 +138,7 @@ def _check_tyre_file(scene):
             f"({4 * wheel_N:.0f} N over four) and runs at about 0..{2 * wheel_N:.0f} N in a "
             "lane change: a tyre for a "
             + ("heavier" if wheel_N < tyre.FZMIN else "lighter") + " vehicle")
-    radius = (tyres.tir_file, tyre.UNLOADED_RADIUS, car.tyre.unloaded_radius_m)
-    if abs(tyre.UNLOADED_RADIUS / car.tyre.unloaded_radius_m - 1) > RADIUS_NOTE and \
-            radius not in _SAID:
-        _SAID.add(radius)
-        log.warning("tyres.tir_file %s: UNLOADED_RADIUS %.3f m, the car's tyre.unloaded_radius_m "
-                    "%.3f m: the wheels are placed, driven and rolled on the car's; the Magic "
-                    "Formula's rolling-resistance and aligning moments (and relaxation lengths "
-                    "taken from the file) take the file's", *radius)
+    warn_radius(tyres.tir_file, car)
     note = combined_slip_said(tyre) if getattr(tyres, "combined_slip", False) else None
     if note and (tyres.tir_file, note) not in _SAID:  # information: the run is the file's
         _SAID.add((tyres.tir_file, note))

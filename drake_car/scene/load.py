@@ -174,11 +174,12 @@ def dump_scene(scene: Scene) -> str:
     return yaml_dump_typed(scene)
 
 
-def dump_scene_file(scene: Scene) -> str:
+def dump_scene_file(scene: Scene, command="drake-car-run") -> str:
     """A scene file holding ``scene`` as its one entry ("scene"): what a run saves beside its
-    results; ``load_scene`` reads it back to the same scene."""
+    results (``command``: the command that reruns it); ``load_scene`` reads it back to the
+    same scene."""
     body = "\n".join("  " + line if line else line for line in dump_scene(scene).splitlines())
-    return f"# The scene as it ran (drake_car). Rerun: drake-car-run --scene THIS\n" \
+    return f"# The scene as it ran (drake_car). Rerun: {command} --scene THIS\n" \
            f"scene:\n{body}\n"
 
 

@@ -4,6 +4,8 @@ Monte Carlo and mitigations, the numerical noise), with the figures written besi
 
 import math
 
+import numpy as np
+
 from drake_car.results.provenance import provenance
 from drake_car.study.design.resolved_runs import resolution_fields
 from drake_car.study.design import answers
@@ -12,6 +14,7 @@ from drake_car.study.design import figures
 from drake_car.study.design import report
 from drake_car.study.design import runs as runs_of
 from drake_car.study.design import tables
+from drake_car.study.design import unmeasured
 from drake_car.study.car.describe import car_facts
 from drake_car.study.design import smoke as smoke_test
 from drake_car.study.design.spec import (
@@ -63,15 +66,22 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None, smoke=None, adapte
             _, _, errors = tables.map_grid(study, spec, part, f"{outcome}_error", scale)
             unconverged = tables.map_flags(study, spec, part, f"{outcome}_converged", "no")
             name = f"map{i}_{outcome}.png"
+            why = unmeasured.why(study, part, outcome)
             figures.heat_map(xs, ys, values, x_label=fx.label, y_label=fy.label,
                              paper=(car_value(study, fx), car_value(study, fy)),
                              threshold=limit, title=f"{fy.label} × {fx.label}",
                              path=out / name, value_label=unit, noise=errors,
-                             unconverged=unconverged, star_label=star, prefix=prefix)
-            maps.append({"figure": name, "caption": f"{unit} over {fx.label} × {fy.label}; "
-                         f"the star is {star}, the line the threshold; x marks cells "
-                         "within their numerical error of it, a square cells not converged "
-                         "at the finest step tried"})
+                             unconverged=unconverged, star_label=star, prefix=prefix,
+                             missing=why)
+            caption = (f"{unit} over {fx.label} × {fy.label}; the star is {star}, the line "
+                       "the threshold; x marks cells within their numerical error of it, a "
+                       "square cells not converged at the finest step tried")
+            if why is not None and not np.isfinite(values).any():
+                caption = (f"{unit} over {fx.label} × {fy.label}: "
+                           f"{unmeasured.not_measured(why)}; no value, no threshold line")
+            elif why is not None:
+                caption += f"; n/m marks the cells {unmeasured.not_measured(why)}"
+            maps.append({"figure": name, "caption": caption})
     lines = tables.line_tables(study, [r for r in rows if r["role"] == "line"])
     if lines:
         figures.lines(lines, study.line_mu_s, split_threshold=threshold,
@@ -109,6 +119,9 @@ def analyse(study, rows, out, sweep, wall_s, noise, acc=None, smoke=None, adapte
             "jam_states": jam_states, "mitigation_mu_s": study.mitigation_mu_s,
             "mitigations": mitigations,
             "noise": {"pairs": sum(r["role"] == "noise" for r in rows), "levels": noise},
+            "not_measured": {role: unmeasured.why(study, [r for r in rows if r["role"] == role],
+                                                  "pull_deg")
+                             for role in ("mc", "mitigation", "line", "noise")},
             "manoeuvre": tables.manoeuvre_summary(study, rows),
             "accuracy": acc,
             "answers": answers.answers(study, rows, sobol, jam_states, mitigations, noise,

@@ -8,6 +8,8 @@ import numpy as np
 
 from drake_car.study.design.spec import factor, is_paper_car
 from drake_car.study.design.tables import map_grid
+from drake_car.study.design.unmeasured import NOT_MEASURED, finite, not_measured
+from drake_car.study.design.unmeasured import why as unmeasured_why
 
 
 def _crossing(xs, values, threshold):
@@ -35,29 +37,46 @@ def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0
     ``noise``; in the outcome's scaled unit) > 0, where it surely exceeds it (|value| - error
     above the threshold) against where it may (|value| + error above it): a boundary is not
     drawn finer than the errors; the cells not converged are named with their values at each
-    step."""
+    step. Cells not measured (``unmeasured.why``) are said, and no crossing is drawn through
+    them: along a row, only the measured cells count."""
     fx, fy = factor(study, spec.x), factor(study, spec.y)
     xs, ys, values = map_grid(study, spec, rows, outcome, scale)
+    head = f"{unit} beyond the threshold over {fx.label} × {fy.label}: "
+    measured = np.isfinite(values)
+    if not measured.any():
+        return f"{unit} over {fx.label} × {fy.label}: " \
+            + not_measured(unmeasured_why(study, rows, outcome)) + "."
     errors = np.full(values.shape, float(noise))
     if rows and f"{outcome}_error" in rows[0]:
         errors = np.nan_to_num(map_grid(study, spec, rows, f"{outcome}_error", scale)[2])
     parts = []
     for j, y in enumerate(ys):
-        v = np.abs(values[j])
-        sure = _crossing(xs, np.maximum(v - errors[j], 0.0), threshold)
-        maybe = _crossing(xs, v + errors[j], threshold)
+        ok = measured[j]
+        if not ok.any():
+            parts.append(f"{fy.label} = {y:.3g}: {NOT_MEASURED}")
+            continue
+        at = [x for x, m in zip(xs, ok) if m]
+        v, e = np.abs(values[j][ok]), errors[j][ok]
+        sure = _crossing(at, np.maximum(v - e, 0.0), threshold)
+        maybe = _crossing(at, v + e, threshold)
         if sure != maybe:
-            where = (f"from {_where(maybe, xs, fx.label)} (within the error) to "
-                     f"{_where(sure, xs, fx.label)} (beyond it)")
+            where = (f"from {_where(maybe, at, fx.label)} (within the error) to "
+                     f"{_where(sure, at, fx.label)} (beyond it)")
         else:
             x = sure
-            where = _where(x, xs, fx.label) if x is None or x == -math.inf else \
+            where = _where(x, at, fx.label) if x is None or x == -math.inf else \
                 f"from {fx.label} ≈ {x:.3g}"
+        if not ok.all():
+            where = (where.replace("nowhere in the range", "nowhere among the measured cells")
+                     + f" ({NOT_MEASURED} at {fx.label} = "
+                     + ", ".join(f"{x:.3g}" for x, m in zip(xs, ok) if not m) + ")")
         parts.append(f"{fy.label} = {y:.3g}: {where}")
     open_ = [f"{fx.label} {xs[k % len(xs)]:.3g}, {fy.label} {ys[k // len(xs)]:.3g} ("
              + " / ".join(f"{scale * float(x):+.2f}" for x in r[f"{outcome}_values"].split(";"))
              + ")" for k, r in enumerate(rows) if r.get(f"{outcome}_converged") == "no"]
-    return (f"{unit} beyond the threshold over {fx.label} × {fy.label}: " + "; ".join(parts)
+    gaps = (f". Cells {NOT_MEASURED}: {unmeasured_why(study, rows, outcome)}"
+            if not measured.all() else "")
+    return (head + "; ".join(parts) + gaps
             + (f". Not converged at the finest step tried (values at each step): "
                f"{'; '.join(open_)}" if open_ else ""))
 
@@ -89,8 +108,7 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
             + (f"the pull is {base['pull']['median']:.2f} deg (median), above "
                f"{study.pull_threshold_deg:g} deg in {100 * base['pull']['share_above']:.0f} %."
                if base["pull"].get("n") else
-               f"no pull measured (the runs ended before {study.pull_distance_m:g} m hands "
-               "off)."))
+               f"the pull {not_measured(_why(study, table, 'mc', 'pull_deg'))}."))
     for i, spec in enumerate(study.maps):
         rows = [r for r in table if r["name"].startswith(f"map{i}_")]
         lines.append(boundary_lines(study, spec, rows, "split_change_rel", 100.0, threshold,
@@ -99,8 +117,10 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
         lines.append(boundary_lines(study, spec, rows, "pull_deg", 1.0,
                                     study.pull_threshold_deg, "The pull",
                                     noise.get("pull_deg", 0.0)))
-    for line in line_rows:
-        lines.append(_line_answer(study, line, threshold, noise))
+    for i, line in enumerate(line_rows):
+        of_line = [r for r in table if r["name"].startswith(f"line{i}_")]
+        lines.append(_line_answer(study, line, threshold, noise, {
+            key: unmeasured_why(study, of_line, key) for key in ("split_change_rel", "pull_deg")}))
     if sobol is not None:
         for outcome, rows in sobol.items():
             ranked = [r for r in rows if r["resolved"]]
@@ -111,15 +131,36 @@ def answers(study, table, sobol, jam_states, mitigations, noise, line_rows=()):
                          + (f"; not ranked (interval wider than the index): "
                             f"{', '.join(unresolved)}" if unresolved else "") + ".")
     if len(mitigations) > 1 and mitigations[0]["runs"]:
-        lines.append(_mitigation_answer(mitigations, 100 * noise.get("split_change_rel", 0.0)))
+        lines.append(_mitigation_answer(mitigations, 100 * noise.get("split_change_rel", 0.0),
+                                        _why(study, table, "mitigation", "pull_deg")))
     if noise:
         lines.append("Numerical error: the runs where the struts jam carry their own (see "
                      "\"Accuracy where the struts jam\" for how it was made); the others "
-                     "the half-step sample's largest change, up to "
-                     f"{100 * noise.get('split_change_rel', math.nan):.2f} % in the split and "
-                     f"{noise.get('pull_deg', math.nan):.2f} deg in the pull. Boundaries and "
+                     "the half-step sample's largest change, "
+                     + _noise_words(study, table, noise) + ". Boundaries and "
                      "rankings closer than their errors are not resolved.")
     return lines
+
+
+def _why(study, table, role, outcome):
+    """Why ``outcome`` is missing in the rows of ``role`` (None: it is not)."""
+    return unmeasured_why(study, [r for r in table if r["role"] == role], outcome)
+
+
+def _noise_words(study, table, noise):
+    """"up to 0.01 % in the split and 0.02 deg in the pull", each outcome the half-step pairs
+    did not measure said so, with why."""
+    pairs = [r for r in table if r["role"] == "noise"]
+    words = []
+    for key, scale, unit, name in (("split_change_rel", 100.0, "%", "the split"),
+                                   ("pull_deg", 1.0, "deg", "the pull")):
+        if key in noise and math.isfinite(noise[key]):
+            words.append(f"up to {scale * noise[key]:.2f} {unit} in {name}")
+        else:
+            reason = unmeasured_why(study, pairs, key)
+            because = "no half-step pair has it" + (f": {reason}" if reason else "")
+            words.append(f"{name} {not_measured(because)}")
+    return " and ".join(words)
 
 
 def _better(paired, noise):
@@ -127,29 +168,70 @@ def _better(paired, noise):
     states' median error (their runs' own errors; ``noise`` where the pairs have none), and in
     more states than chance gives (sign test over the states resolved, p < 0.05)."""
     limit = paired.get("error_median", noise)
-    return paired.get("median", math.inf) < -limit and paired.get("sign_test_p", 1.0) < 0.05
+    return (paired.get("median", math.inf) < -limit
+            and paired.get("sign_test_p", 1.0) < SIGN_TEST_LEVEL)
 
 
-def _mitigation_answer(mitigations, noise):
+# The sign test's level, and the fewest states over which it can conclude at it: all n states
+# one way give its smallest two-sided p, 2 / 2**n (0.031 at n = 6; 0.0625 at 5).
+SIGN_TEST_LEVEL = 0.05
+SIGN_TEST_STATES = next(n for n in range(1, 64) if 2 / 2 ** n < SIGN_TEST_LEVEL)
+
+
+def _median_words(summary, unit, digits, why):
+    """"median 5.71 %", or "not measured (why)" where no run of the group gave the value."""
+    if not summary.get("n"):
+        return not_measured(why)
+    return f"median {summary['median']:.{digits}f} {unit}"
+
+
+def _mitigation_answer(mitigations, noise, pull_why=None):
     """Mitigations judged state by state against the baseline: one helps when it lowers the
     |split| beyond the numerical noise (``noise``, %) and in more states than chance
     (``_better``); among those, one is the best only if it is also better than each other
-    helper, state by state."""
+    helper, state by state. Over fewer than ``SIGN_TEST_STATES`` states the sign test cannot
+    conclude: such a mitigation is said not judged (not "none lower"). ``pull_why``: why a
+    group's pull is missing (``unmeasured.why``)."""
     base = mitigations[0]
     ranked = sorted(mitigations[1:], key=lambda m: m["paired"].get("median", math.inf))
+
+    def paired_words(p):
+        n = p.get("n", 0)
+        if not n:
+            return "state by state: no state with both runs finished"
+        lower = round(p["share_lower"] * n)
+        return (f"state by state {p['median']:+.2f} % (lower beyond the runs' errors in "
+                f"{100 * p['share_lower']:.0f} % of the states: {lower} of {n}"
+                + (f", within them in {p['unresolved']}" if p.get('unresolved') else "")
+                + (f", a run not converged in {p['not_converged']}"
+                   if p.get('not_converged') else "") + ")")
+    # The pull's why said once, with the baseline (the groups run the same states).
     text = "; ".join(
-        f"{m['mitigation']}: median {m['split'].get('median', math.nan):.2f} %, "
-        f"{100 * m['split'].get('share_above', math.nan):.0f} % of states above the threshold, "
-        f"pull median {m['pull'].get('median', math.nan):.2f} deg; state by state "
-        f"{m['paired'].get('median', math.nan):+.2f} % (lower beyond the runs' errors in "
-        f"{100 * m['paired'].get('share_lower', math.nan):.0f} % of the states"
-        + (f", within them in {m['paired']['unresolved']}" if m['paired'].get('unresolved')
-           else "")
-        + (f", a run not converged in {m['paired']['not_converged']}"
-           if m['paired'].get('not_converged') else "") + ")"
+        f"{m['mitigation']}: {_median_words(m['split'], '%', 2, 'no run finished')}, "
+        + (f"{100 * m['split']['share_above']:.0f} % of states above the threshold, "
+           if m["split"].get("n") else "")
+        + f"pull {_median_words(m['pull'], 'deg', 2, None)}; {paired_words(m['paired'])}"
         for m in ranked)
-    helps = [m for m in ranked if _better(m["paired"], noise)]
-    worse = [m["mitigation"] for m in ranked if _better(
+    judged = [m for m in ranked if m["paired"].get("n", 0) >= SIGN_TEST_STATES]
+    not_judged = [m for m in ranked if m not in judged]
+    head = (f"Mitigations over the same {base['runs']} states ({base['mitigation']}: split "
+            f"{_median_words(base['split'], '%', 2, 'no run finished')}, pull "
+            f"{_median_words(base['pull'], 'deg', 2, pull_why)}): {text}. ")
+    cannot = ""
+    if not_judged:
+        counts = sorted({m["paired"].get("n", 0) for m in not_judged})
+        n = counts[-1]
+        why = (f"over {' or '.join(str(c) for c in counts)} states a sign test at "
+               f"{100 * SIGN_TEST_LEVEL:g} % cannot conclude (even all {n} states one way give "
+               f"p = {min(1.0, 2 / 2 ** n):.2f}; it needs {SIGN_TEST_STATES} states or more)")
+        cannot = ((f"No mitigation is judged lower or higher than the baseline: {why}, so the "
+                   "shares of states above are counts, not a verdict.") if not judged else
+                  f"Not judged against the baseline ({why}): "
+                  + ", ".join(m["mitigation"] for m in not_judged) + ".")
+    if not judged:
+        return head + cannot
+    helps = [m for m in judged if _better(m["paired"], noise)]
+    worse = [m["mitigation"] for m in judged if _better(
         {"median": -m["paired"].get("median", -math.inf),
          "sign_test_p": m["paired"].get("sign_test_p", 1.0)}, noise)]
     best = [m for m in helps if all(_better(m["against"][o["mitigation"]], noise)
@@ -165,32 +247,41 @@ def _mitigation_answer(mitigations, noise):
                    f"other state by state ({a['mitigation']} against {b['mitigation']}: "
                    f"{vs['median']:+.2f} % median, lower in {100 * vs['share_lower']:.0f} % of "
                    "the states)")
-    return (f"Mitigations over the same {base['runs']} states ({base['mitigation']}: split "
-            f"median {base['split'].get('median', math.nan):.2f} %, pull median "
-            f"{base['pull'].get('median', math.nan):.2f} deg): {text}. {verdict}. Lower than "
-            f"the baseline: {', '.join(m['mitigation'] for m in helps) or 'none'}; higher: "
+    return (head + f"{verdict}. Lower than the baseline: "
+            f"{', '.join(m['mitigation'] for m in helps) or 'none'}; higher: "
             f"{', '.join(worse) or 'none'} (beyond the states' median error, the runs' own "
-            "where refined, and a sign test at 5 %).")
+            "where refined, and a sign test at 5 %)." + (" " + cannot if cannot else ""))
 
 
-def _line_answer(study, line, threshold, noise):
+def _line_answer(study, line, threshold, noise, why=None):
+    """A line's |split| and |pull| at each μs, over its measured points; ``why``: {outcome:
+    why it is missing} (``unmeasured.why`` of the line's rows)."""
+    why = why or {}
     parts = []
     for mu_s in study.line_mu_s:
         pts = [p for p in line["points"] if p["mu_s"] == mu_s]
-        split = [abs(p["split_pct"]) for p in pts]
-        pull = [abs(p["pull_deg"]) for p in pts]
-        spread = max(split) - min(split) if split else math.nan
+        split = [abs(p["split_pct"]) for p in pts if math.isfinite(p["split_pct"])]
+        pull = [abs(p["pull_deg"]) for p in pts if math.isfinite(p["pull_deg"])]
+        if not split:
+            parts.append(f"at μs = {mu_s:g} the |split| "
+                         f"{not_measured(why.get('split_change_rel'))}")
+            continue
+        spread = max(split) - min(split)
         errors = [p.get("split_pct_error", math.nan) for p in pts]
-        error = max([e for e in errors if math.isfinite(e)]
-                    or [100 * noise.get("split_change_rel", 0.0)])
+        error = max(finite(errors) or [100 * noise.get("split_change_rel", 0.0)])
         resolved = spread > 2 * error
         open_ = sum(p.get("split_pct_converged") == "no" for p in pts)
         parts.append(f"at μs = {mu_s:g} the |split| runs {min(split):.2f} ... {max(split):.2f} % "
                      f"({'beyond' if resolved else 'within'} its errors"
                      + (f", {open_} not converged" if open_ else "")
                      + f"; above {threshold:g} % at "
-                     f"{sum(v > threshold for v in split)} of {len(split)} values) and the "
-                     f"|pull| {min(pull):.2f} ... {max(pull):.2f} deg")
+                     f"{sum(v > threshold for v in split)} of {len(split)} values"
+                     + (f"; {len(pts) - len(split)} {NOT_MEASURED}" if len(split) < len(pts)
+                        else "") + ") and the |pull| "
+                     + (f"{min(pull):.2f} ... {max(pull):.2f} deg"
+                        + (f" ({NOT_MEASURED} at {len(pts) - len(pull)} of {len(pts)} values: "
+                           f"{why.get('pull_deg')})" if len(pull) < len(pts) else "")
+                        if pull else not_measured(why.get("pull_deg"))))
     values = ", ".join(f"{v:g}" for v in line_values(line))
     return f"{line['label']} ({values}): " + "; ".join(parts) + "."
 

@@ -78,7 +78,8 @@ def compare_summary(study, rows, text, noise):
             e = b["error"] + c["error"]
             open_ = "no" in (b["converged"], c["converged"])
             diff[key] = {"value": d, "error": e, "open": open_,
-                         "verdict": ("not converged" if open_ else
+                         "verdict": ("not measured" if not math.isfinite(d) else
+                                     "not converged" if open_ else
                                      "within the errors" if not abs(d) > e else
                                      "lower" if d < 0 else "higher")}
         out.append({"mu_s": mu_s} | cells | {"difference": diff})

@@ -12,19 +12,22 @@ import numpy as np  # noqa: E402
 
 def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
              value_label="lasting front load split change [% of corner load]", noise=None,
-             unconverged=None, star_label="the paper's car", prefix=""):
+             unconverged=None, star_label="the paper's car", prefix="", missing=None):
     """``values[j][i]`` at (xs[i], ys[j]), in %; the contour |value| = threshold (%) drawn;
     cells whose |value| is within their error ``noise`` (a number, or one per cell, in the
     values' unit) of the threshold marked x: the boundary there is not resolved; cells
     ``unconverged`` (booleans per cell) framed by a square: not converged at the finest step
-    tried."""
+    tried. A cell without a value (NaN) is written "n/m" (not measured), ``missing`` saying
+    why under the title; no boundary is drawn through the map unless every cell has one."""
     z = np.asarray(values, dtype=float)
+    measured = np.isfinite(z)
     fig, ax = plt.subplots(figsize=(6.4, 5.0))
-    limit = max(float(np.nanmax(np.abs(z))), threshold * 1.5, 1e-9)
+    size = np.abs(z[measured])
+    limit = max(float(size.max()) if size.size else 0.0, threshold * 1.5, 1e-9)
     mesh = ax.pcolormesh(xs, ys, z, shading="nearest", cmap="RdBu_r", vmin=-limit,
                          vmax=limit)
     fig.colorbar(mesh, ax=ax, label=value_label)
-    if np.nanmax(np.abs(z)) > threshold and np.nanmin(np.abs(z)) < threshold:
+    if measured.all() and size.max() > threshold and size.min() < threshold:
         contour = ax.contour(xs, ys, np.abs(z), levels=[threshold], colors="k",
                              linewidths=1.6)
         ax.clabel(contour, fmt={threshold: f"threshold {threshold:g}"}, fontsize=7)
@@ -41,10 +44,15 @@ def heat_map(xs, ys, values, *, x_label, y_label, paper, threshold, title, path,
     ax.plot(*paper, marker="*", color="gold", mec="k", ms=16, label=star_label, ls="none")
     for j, y in enumerate(ys):
         for i, x in enumerate(xs):
-            ax.text(x, y, f"{z[j, i]:+.1f}", ha="center", va="center", fontsize=7)
+            ax.text(x, y, f"{z[j, i]:+.1f}" if measured[j, i] else "n/m", ha="center",
+                    va="center", fontsize=7)
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
-    ax.set_title(prefix + title, fontsize=10, color="tab:red" if prefix else "k")
+    gaps = "" if measured.all() else (
+        f"\n{'not measured' if not measured.any() else 'n/m: not measured'}"
+        + (f" ({missing})" if missing else ""))
+    ax.set_title(prefix + title + gaps, fontsize=10 if not gaps else 8,
+                 color="tab:red" if prefix else "k", wrap=True)
     ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), fontsize=8, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=110)

@@ -12,6 +12,7 @@ from drake_car.study.design.compare import compare_lines
 from drake_car.study.design.jam_cases import report_lines
 from drake_car.study.design.resolved_runs import report_lines as local_report_lines
 from drake_car.study.design.spec import car_value, paper_value
+from drake_car.study.design.unmeasured import not_measured
 
 
 # How the noise of each outcome is written: (scale, unit).
@@ -121,6 +122,8 @@ def report(s, figures=""):
                      f"{_pct(pu.get('share_above'))} | "
                      + (f"{pa['median']:+.2f} / {_pct(pa['share_lower'])}" if pa.get("n")
                         else "-") + f" | {m.get('not_converged', 0)} |")
+    lines += _gaps_note(s, ("mc", "mitigation"),
+                        [m["pull"] for m in [s["jam_states"], *s["mitigations"]]])
     acc = s.get("accuracy")
     lines += [""] + (local_report_lines(acc) if (acc or {}).get("route") == "local"
                      else report_lines(acc, figures))
@@ -131,11 +134,25 @@ def report(s, figures=""):
     for key, level in s["noise"]["levels"].items():
         scale, unit = NOISE_UNITS.get(key, (1.0, ""))
         lines.append(f"- {key}: {scale * level:.3g} {unit}".rstrip())
+    if s["noise"]["pairs"] and "pull_deg" not in s["noise"]["levels"]:
+        why = (s.get("not_measured") or {}).get("noise")
+        lines.append("- pull_deg: " + not_measured(
+            "no half-step pair has it" + (f": {why}" if why else "")))
     lines += ["", "## Files", "",
               f"`{figures}table.csv`: one row per run (every varied value, every outcome, the "
               "run's key; `pandas.read_csv`); `sweep/runs/<hash>/`: each run's history and "
               "scene as it ran; figures as above.", ""]
     return "\n".join(lines)
+
+
+def _gaps_note(s, roles, summaries):
+    """The line under a table whose pull cells say n/a: not measured, and why."""
+    if all(p.get("n") for p in summaries):
+        return []
+    whys = {role: w for role in roles if (w := (s.get("not_measured") or {}).get(role))}
+    why = (next(iter(whys.values())) if len(set(whys.values())) == 1 else
+           "; ".join(f"{role}: {w}" for role, w in whys.items()))
+    return ["", f"n/a: the pull {not_measured(why or None)}."]
 
 
 def _manoeuvre_lines(m):
@@ -178,4 +195,7 @@ def _line_section(s, figures):
                 cells += [_fmt(p["split_pct"]), _fmt(p["pull_deg"])]
             lines.append(f"| {value:g} | " + " | ".join(cells) + " |")
         lines.append("")
+    if any(not math.isfinite(p["pull_deg"]) for line in s["lines"] for p in line["points"]):
+        why = (s.get("not_measured") or {}).get("line")
+        lines += [f"n/a: {not_measured(why)}.", ""]
     return lines

@@ -17,6 +17,7 @@ from drake_car.law.tyre.plausibility import wheel_load_note
 from drake_car.model.geometry import design_axle_loads_N
 from drake_car.model.loading import tir_path
 from drake_car.scene.borrowed import relaxation, relaxation_words
+from drake_car.scene.limits import warn_radius
 from drake_car.scene.scene import DEFAULT_TIR
 from drake_car.study.handling import tyre_curves
 
@@ -74,10 +75,17 @@ def write(out, scene):
 def shipped_scenes(scenes):
     """The same scenes on the shipped tyre file, and a note when a setting had to change with
     it (the shipped file has no relaxation data: its run takes tyres.slip's lengths; nor
-    vertical data: the runs keep this file's radial spring, already in car.tyre)."""
+    vertical data: the runs keep this file's radial spring, already in car.tyre) or when the
+    shipped tyre's unloaded radius is not the car's (said on stderr too, as a scene's load
+    says it: ``scene.limits.warn_radius``)."""
     out, notes = {}, set()
     for name, scene in scenes.items():
         tyres = dataclasses.replace(scene.tyres, tir_file=DEFAULT_TIR)
+        radius = warn_radius(DEFAULT_TIR, scene.car)
+        if radius is not None:
+            notes.add(f"**the shipped tyre is not this car's size**: {radius} (the comparison "
+                      "is of the two Magic Formulas on this car's wheels, not of the car on "
+                      "wheels of the shipped tyre's size)")
         if tyres.vertical_from_file:  # the scene's car.tyre already holds this file's values
             tyres = dataclasses.replace(tyres, vertical_from_file=False)
             notes.add("the radial stiffness and damping stay this tyre file's "

@@ -27,6 +27,24 @@ COLUMNS = (("aw_seat_mps2", "a_w seat [m/s²]", 3), ("pitch_acc_rms_radps2", "pi
            ("normal_mean_N", "mean N [N]", 0))
 
 
+def signed(x, digits=0):
+    """``x`` with its sign, rounded to ``digits``; a value that rounds to zero is "+0" (never
+    "-0", which reads as a change)."""
+    return f"{round(x, digits) + 0.0:+.{digits}f}"
+
+
+def slope_words(slopes, classes):
+    """What 0.1 of μs costs over the road ``classes`` (one slope each): one value for one
+    class (or one value after rounding), else the range."""
+    low, high = signed(min(slopes), 3), signed(max(slopes), 3)
+    fit = "linear fit over μs 0-0.4"
+    if len(slopes) == 1:
+        return f"{low} m/s² per 0.1 of μs ({fit}, class {classes[0]})"
+    if low == high:
+        return f"{low} m/s² per 0.1 of μs ({fit}, the same in classes {', '.join(classes)})"
+    return f"{low} to {high} m/s² per 0.1 of μs ({fit}, classes {', '.join(classes)})"
+
+
 def _value(row, key, digits):
     return f"{row[key]:.{digits}f} ± {row['err_' + key]:.1g}"
 
@@ -125,8 +143,10 @@ def cost_table(rows):
         if base["strut"] != "lubricated":
             continue
         dry = sel[1:]
-        da = " / ".join(f"{100 * (r['aw_seat_mps2'] / base['aw_seat_mps2'] - 1):+.0f} %" for r in dry)
-        dd = " / ".join(f"{100 * (r['dlc_front'] / base['dlc_front'] - 1):+.0f} %" for r in dry)
+        da = " / ".join(f"{signed(100 * (r['aw_seat_mps2'] / base['aw_seat_mps2'] - 1))} %"
+                        for r in dry)
+        dd = " / ".join(f"{signed(100 * (r['dlc_front'] / base['dlc_front'] - 1))} %"
+                        for r in dry)
         _, b, r2, dev, _ = linearity(sel, "mu_s")
         if len(dry) >= 2:
             _, bf, r2f, _, _ = linearity(sel, "rig_friction_N")
@@ -135,7 +155,7 @@ def cost_table(rows):
             force = "-"
         off = " **OFF**" if any(not r["held_speed"] for r in sel) else ""
         lines.append(f"| {road_class} | {speed:g}{off} | {strut} | {base['aw_seat_mps2']:.3f} | {da} | "
-                     f"{dd} | {0.1 * b:.3f}, {r2:.3f}, {100 * dev:.0f} % | {force} |")
+                     f"{dd} | {signed(0.1 * b, 3)}, {r2:.3f}, {100 * dev:.0f} % | {force} |")
     return "\n".join(lines)
 
 
@@ -193,12 +213,11 @@ def summary_text(rows):
                      for k, v in sel.items()}
             linear = sum(linear_verdict(v)[0] for v in sel.values())
             off = sum(not r["held_speed"] for v in sel.values() for r in v)
-            parts = "; ".join(f"class {c}: a_w {100 * a:+.0f} %, DLC front {100 * f:+.0f} %, "
-                              f"rear {100 * r:+.0f} % at μs {m:g}"
+            parts = "; ".join(f"class {c}: a_w {signed(100 * a)} %, DLC front "
+                              f"{signed(100 * f)} %, rear {signed(100 * r)} % at μs {m:g}"
                               for c, (a, f, r, m) in sorted(worst.items()))
             lines.append(f"- {strut} strut, {speed:g} km/h: a_w changes by "
-                         f"{min(slopes):+.3f} to {max(slopes):+.3f} m/s² per 0.1 of μs "
-                         f"(linear fit over μs 0-0.4, the classes' range); {parts}; about "
+                         f"{slope_words(slopes, sorted(k[0] for k in sel))}; {parts}; about "
                          f"linear in the rig friction force in {linear} of {len(sel)} classes"
                          + (f" (**not at constant speed**: {off} of "
                             f"{sum(len(v) for v in sel.values())} runs did not hold "
