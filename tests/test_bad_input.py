@@ -173,6 +173,29 @@ CASES = [
      lambda t: scene_text(tyre(tir_file(t, "", binary=True))), "not a text file"),
     ("a missing .tir", run_command.main,
      lambda t: scene_text(tyre(t / "nowhere.tir")), "nowhere.tir: tyre property file not found"),
+    # a newcomer's review (rev40): where a relative file was looked for, a car file's kind
+    ("a missing .tir by a relative name", run_command.main,
+     lambda t: scene_text(tyre("nowhere/nope.tir")),
+     "tyres.tir_file nowhere/nope.tir: tyre property file not found (looked in the working "
+     f"folder ({ROOT}) and the shipped data"),
+    ("an empty car file", run_command.main,
+     lambda t: scene_text(f"car_file: {_empty(t)}"),
+     "empty.yaml: must map the car's sections (mass, wheelbase_m"),
+    ("a car file that is a folder", run_command.main,
+     lambda t: scene_text(f"car_file: {t}"), "is a folder, not a car file"),
+    ("paper: one scene as the study's scenes file", paper.main,
+     lambda t: ["--scene", _car_scene(t) + ":car"],
+     "drake-car-paper's --scene is the study's scenes file"),
+    ("handling: one scene as its scenes file", handling.main,
+     lambda t: ["--scene", _car_scene(t) + ":car"],
+     "--scene_text '{car_file: cars/bmw_320i.yaml, tyres: !MagicFormula {tir_file: "
+     "tyres/pacejka2006_205_60R15.tir}}'"),
+    ("paper: a file of one car as the study's scenes file", paper.main,
+     lambda t: ["--scene", _car_scene(t)], "no entry states a manoeuvre"),
+    ("handling: a car file as its scenes file", handling.main,
+     lambda t: ["--scene", "urdf/cars/bmw_320i.yaml"],
+     "a car file (its keys mass, wheelbase_m, front, rear, ...), not scenes; "
+     "drake-car-handling's --scene is the handling scenes file"),
     ("divergence", run_command.main,
      lambda t: ["--scene", "scenes/car.yaml:straight", "--scene_text",
                 "car: {tyre: {radial_stiffness_Npm: 5.0e7}}\nplant: {time_step: 0.005}\n"
@@ -248,6 +271,20 @@ CASES = [
 def _file(tmp_path):
     path = tmp_path / "a_file"
     path.write_text("not a folder")
+    return str(path)
+
+
+def _empty(tmp_path):
+    path = tmp_path / "empty.yaml"
+    path.write_text("")
+    return str(path)
+
+
+def _car_scene(tmp_path):
+    """A scene file of a car alone, as ride, design and strut rig take it (FILE:car)."""
+    path = tmp_path / "my.yaml"
+    path.write_text("car:\n  car_file: cars/bmw_320i.yaml\n  tyres: !MagicFormula "
+                    "{tir_file: tyres/pacejka2006_205_60R15.tir}\n")
     return str(path)
 
 

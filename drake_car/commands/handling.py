@@ -41,7 +41,7 @@ from drake_car.data import resource
 from drake_car.results.files import write_json, write_text
 from drake_car.results.folder import output_folder
 from drake_car.results.provenance import provenance
-from drake_car.scene.load import load_scene_file
+from drake_car.scene.study_file import load_study_file
 from drake_car.study.handling.analysis import check_scenes, crosscheck_left_out, handling_study
 from drake_car.study.handling.measures import DEFAULT_AY_RANGE, HandlingError
 from drake_car.study.handling.outputs import summary, write_outputs
@@ -64,7 +64,9 @@ def ay_range(text):
 
 def main(argv=None):
     p = cli.parser(__doc__, name="handling", scene=True, scene_default=str(HANDLING),
-                   scene_help="the handling scenes file", scene_text="YAML laid over both scenes")
+                   scene_help=(
+                       "the handling scenes file (not your car: give that with --scene_text "
+                       "\"car_file: FILE\")"), scene_text="YAML laid over both scenes")
     p.add_argument("--ay_range", type=ay_range, default=DEFAULT_AY_RANGE,
                    help="LO,HI: the linear range of a_y (m/s²) the gradients are fitted over "
                         "(default: 0.5,3.0)")
@@ -75,7 +77,10 @@ def main(argv=None):
                         "the shipped tyre (the report then says nothing of what changed)")
     args = p.parse_args(argv)
     cli.check_out(args)
-    scenes = load_scene_file(args.scene, args.scene_text or None)
+    scenes = load_study_file(args.scene, args.scene_text or None,
+                             command=cli.command_name("handling"), holds=(
+                                 "the handling scenes file: its entries steady_state and "
+                                 "step_steer (as scenes/handling.yaml)"))
     check_scenes(scenes, args.scene)
     why = crosscheck_left_out(args.no_crosscheck)
     began = time.perf_counter()

@@ -53,7 +53,7 @@ from resource import RUSAGE_CHILDREN, RUSAGE_SELF, getrusage
 
 from drake_car.commands import cli
 from drake_car.data import resource
-from drake_car.scene.load import load_scene_file
+from drake_car.scene.study_file import load_study_file
 from drake_car.scene.scene import MeshcatReplay, NoVisualization, PrescribedRotation
 from drake_car.results.files import (
     write_csv, write_diagram_overview_svg, write_diagram_svg, write_json, write_run)
@@ -72,12 +72,15 @@ from drake_car.sweep.refine import check_twin, halved, loosened
 from drake_car.sweep.runner import run_scenes
 
 PAPER_STUDY = resource("scenes/paper_study.yaml")
+PAPER = cli.command_name("paper")
 PAPER_DRIVE = " paper's drive"  # the run with the paper's drive, among the sweep's names
 
 
 def main(argv=None):
     p = cli.parser(__doc__, name="paper", scene=True, scene_default=str(PAPER_STUDY),
-                   scene_help="the study's scenes file", cluster=True,
+                   scene_help=(
+                       "the study's scenes file, each entry a run (not your car: give that with "
+                       "--scene_text \"car_file: FILE\")"), cluster=True,
                    scene_text="YAML laid over every run's scene")
     p.add_argument("--no_verify", action="store_true",
                    help="no accuracy on demand: every run at its scene's step only, no "
@@ -106,7 +109,9 @@ def main(argv=None):
                         "rotation prescribed: a locked front axle)")
     args = p.parse_args(argv)
     cli.check_out(args)
-    scenes = load_scene_file(args.scene, args.scene_text or None)
+    scenes = load_study_file(args.scene, args.scene_text or None, command=PAPER, holds=(
+        "the study's scenes file: each entry a run, a !LaneChange of case a or b with its "
+        "friction set (as scenes/paper_study.yaml)"))
     roles = check_study_scenes(scenes)  # before any work
     if not (args.no_verify or args.no_solver_axis):
         for scene in scenes.values():

@@ -80,11 +80,11 @@ def main(argv=None):
         studies[0].check()
     except ParameterError as e:
         raise ParameterError(OPTIONS.get(e.key, e.key), e.value, e.requirement) from None
+    check_sweep_folder(args.out)  # before the scenes (the launch and rack are calibrated)
     scenes = {}
     scene = parse_scene_option(args.scene) if args.scene else None
     for study in studies:
         scenes.update(ride_scenes(study, scene_text=args.scene_text or None, scene=scene))
-    check_sweep_folder(args.out)
     began = time.perf_counter()
     if not args.no_run:
         with cli.cluster_client(args, len(scenes)) as client:

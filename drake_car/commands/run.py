@@ -1,7 +1,9 @@
 """Runs any scene and writes what it made:
 
   DIR/history.csv   every logged channel (t, phase, ...; SI units in the column names)
-  DIR/scene.yaml    the scene as it ran, every value (rerun it: --scene DIR/scene.yaml)
+  DIR/scene.yaml    the scene as it ran, every value (rerun it: --scene DIR/scene.yaml, from
+                    the folder it ran in when it names a car or tyre file relative to it:
+                    run.json's provenance.working_folder)
   DIR/run.json      how the run went: wall time, frozen SAP steps, the end state, provenance
   DIR/diagram.svg   the Diagram that ran, drawn by Graphviz; DIR/diagram.dot its Graphviz
                     source
@@ -25,10 +27,12 @@ import logging
 import sys
 
 from drake_car.commands import cli
+from drake_car.law.errors import InputError
 from drake_car.scene.load import load_scene, parse_scene_option
 from drake_car.scene.manoeuvre_targets import manoeuvre_failures
 from drake_car.results.files import write_run
 from drake_car.results.folder import output_folder
+from drake_car.results.record import rerun_note
 from drake_car.sim.simulate import simulate
 
 
@@ -36,12 +40,19 @@ def main(argv=None):
     p = cli.parser(__doc__, name="run", scene=True, scene_required=True)
     p.add_argument("--child", default=None, help="the entry of the scene file to run")
     args = p.parse_args(argv)
+    cli.check_out(args)
     path, child = parse_scene_option(args.scene)
     if args.child is not None:
         if child is not None and child != args.child:
             p.error(f"--scene names the entry {child!r} and --child {args.child!r}")
         child = args.child
-    scene = load_scene(path, child=child, scene_text=args.scene_text or None)
+    try:
+        scene = load_scene(path, child=child, scene_text=args.scene_text or None)
+    except InputError as e:  # a run's saved scene naming files of the folder it ran in
+        note = rerun_note(path, child)
+        if not note:
+            raise
+        raise InputError(f"{e}{note}") from None
     with output_folder(args.out) as out:
         run = simulate(scene, progress=not args.quiet)
         write_run(run, out)

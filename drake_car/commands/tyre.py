@@ -32,7 +32,7 @@ def main(argv=None):
     p.add_argument("--pressure_Pa", type=cli.positive("pressure_Pa"), default=None,
                    help="inflation pressure (MF 6.x files; default the file's INFLPRES)")
     args = p.parse_args(argv)
-    tyre = MagicFormulaTyre.from_file(tir_path(args.tir), pressure_Pa=args.pressure_Pa)
+    tyre = MagicFormulaTyre.from_file(tir_path(args.tir, "--tir"), pressure_Pa=args.pressure_Pa)
     with output_folder(args.out) as out:
         text, _ = tyre_curves.write(tyre, out)
     print(text + f"wrote {args.out}", file=sys.stderr)

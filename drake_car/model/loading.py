@@ -12,6 +12,7 @@ from drake_car.data import resource
 from drake_car.model.geometry import SIDES
 from drake_car.law.errors import InputError
 from drake_car.law.tyre.magic_formula import MagicFormulaTyre
+from drake_car.law.tyre.property_file import TirFileError
 
 # Bodies and joints every car model file must declare (the code addresses them by name).
 REQUIRED_BODIES = ["chassis", "steering_rack"] + [
@@ -104,9 +105,15 @@ def _read_tyre(path, version):
     return MagicFormulaTyre.from_file(Path(path))
 
 
-def tir_path(name):
-    """A tyre property file (``data_path``)."""
-    return data_path(name)
+def tir_path(name, option="tyres.tir_file"):
+    """A tyre property file (``data_path``); a ``name`` found nowhere is a TirFileError naming
+    ``option`` (the scene's key, or a command's option) and, for a relative name, where it was
+    looked for."""
+    path = data_path(name)
+    if not path.exists():
+        raise TirFileError(f"{option} {name}: tyre property file not found" + (
+            "" if Path(name).is_absolute() else f" ({where_data_is(name)})"))
+    return path
 
 
 def data_path(name):
@@ -128,6 +135,23 @@ def data_path(name):
     if packaged.exists() or not path.exists():
         return packaged
     return local
+
+
+def working_folder_names(names):
+    """Those of the data-file ``names`` (None left out) that are found in the working folder,
+    not in the shipped data: a scene naming them runs only from this folder."""
+    shipped = Path(str(resource("urdf")))
+    found = []
+    for name in names:
+        if not name or Path(name).is_absolute():
+            continue
+        try:
+            path = data_path(name)
+        except DataFileError:
+            path = Path(name).absolute()
+        if path.exists() and not path.is_relative_to(shipped):
+            found.append(name)
+    return found
 
 
 def where_data_is(name):

@@ -14,6 +14,7 @@ import errno
 import os
 import shutil
 import signal
+import tempfile
 import uuid
 from pathlib import Path
 
@@ -55,6 +56,7 @@ def check_output_target(out_dir):
         probe = probe.parent
     if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
         raise OutputError(f"--out {out_dir}: {probe} is not a writable folder")
+    check_writable(out_dir, probe)
     try:
         name_max = os.pathconf(probe, "PC_NAME_MAX")
     except (OSError, ValueError):
@@ -66,6 +68,26 @@ def check_output_target(out_dir):
                               f"{name_max} bytes, {name_max - _BESIDE_BYTES} for an output "
                               "folder (its temporary names are longer)")
     check_no_run_in_progress(out_dir)
+
+
+def check_writable(out_dir, folder):
+    """Makes a file in ``folder``, where the output's lock and temporary folder go, and lets it
+    go: ``os.access`` says yes to root in /sys or /proc, whose first file would fail only after
+    the work. An unnamed file (O_TMPFILE: the folder is not changed, not even its time) where
+    the file system makes one; else a named file, removed at once (sysfs and procfs, which make
+    neither, refuse it)."""
+    try:
+        try:
+            os.close(os.open(folder, os.O_TMPFILE | os.O_WRONLY, 0o600))
+        except (AttributeError, OSError) as e:  # no O_TMPFILE here (not Linux, or this mount)
+            if isinstance(e, OSError) and e.errno not in (errno.EOPNOTSUPP, errno.EISDIR):
+                raise
+            fd, name = tempfile.mkstemp(prefix=".drake_car-probe-", dir=folder)
+            os.close(fd)
+            os.unlink(name)
+    except OSError as e:
+        raise OutputError(f"--out {out_dir}: cannot write in {folder} ({e.strerror or e}); "
+                          "choose a folder you can write in") from None
 
 
 def check_no_run_in_progress(out_dir):
@@ -134,7 +156,8 @@ def output_folder(out_dir):
     parent, name = out_dir.parent, out_dir.name
     with _os_errors_named(out_dir, parent):
         parent.mkdir(parents=True, exist_ok=True)
-    with terminate_as_exit(), folder_lock(parent / f".{name}.lock", out_dir):
+    with terminate_as_exit(), _os_errors_named(out_dir, parent), \
+            folder_lock(parent / f".{name}.lock", out_dir):
         check_no_run_in_progress(out_dir)  # again, holding our lock: no race with a new one
         for stale in parent.glob(f".{name}.partial-*"):  # killed runs': we hold the lock
             _remove(stale)

@@ -5,6 +5,7 @@ import datetime
 import functools
 import hashlib
 import importlib.metadata
+import os
 import platform
 import subprocess
 import sys
@@ -14,7 +15,8 @@ from pathlib import Path
 def provenance(**extra):
     """How a result was made: command, versions (drake_car's as installed, None if it is not),
     the git commit of drake_car's source and whether its working tree had uncommitted changes
-    (both None when the source is not in a git checkout: ``source_checkout``), time."""
+    (both None when the source is not in a git checkout: ``source_checkout``), the working
+    folder (where a scene's relative file names were found), time."""
     commit, dirty = source_checkout()
     info = {
         "command": " ".join([_program(sys.argv[0])] + sys.argv[1:]),
@@ -26,11 +28,21 @@ def provenance(**extra):
         "numpy": _installed_version("numpy") or "unknown",
         "numba": _installed_version("numba") or "unknown",
         "host": platform.node(),
+        "working_folder": _working_folder(),
         "machine": platform.machine(),
         "created_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
     info.update(extra)
     return info
+
+
+def _working_folder():
+    """The folder the command ran in (a scene's relative file names resolve there); None when
+    it no longer exists."""
+    try:
+        return os.getcwd()
+    except OSError:
+        return None
 
 
 def _program(path):

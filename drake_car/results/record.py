@@ -10,9 +10,10 @@ import json
 import math
 from pathlib import Path
 
+from drake_car.model.loading import DataFileError, data_path
 from drake_car.results.files import parse_csv
 from drake_car.results.folder import OutputError
-from drake_car.scene.load import SceneError, load_scene_text, parse_scene_text
+from drake_car.scene.load import SceneError, load_scene_text, parse_scene_text, stated
 from drake_car.sim.simulate import Run
 
 # The files a finished run is made of (replay.html only when the scene asked for one).
@@ -97,3 +98,33 @@ def refuse_pickles(folder):
     for path in sorted(folder.rglob("*.pkl")) if folder.is_dir() else ():
         raise OutputError(f"{path}: a pickle in a results folder; drake_car never loads one "
                           "(loading it could run code): remove it")
+
+
+def rerun_note(scene_path, child=None):
+    """For a run's saved scene (``scene_path``, run.json beside it) naming files relative to the
+    folder the run was made in (run.json's ``provenance.working_folder``) that this working
+    folder lacks: "; ..." saying where to rerun it from; else ""."""
+    scene_path = Path(scene_path)
+    try:
+        made_in = json.loads((scene_path.parent / "run.json").read_text())[
+            "provenance"]["working_folder"]
+        raw = stated(scene_path, child)
+    except (OSError, ValueError, KeyError, TypeError, SceneError):
+        return ""
+    if not isinstance(made_in, str) or Path(made_in) == Path.cwd():
+        return ""
+    tyres = raw.get("tyres")
+    names = [raw.get("car_file"), tyres.get("tir_file") if isinstance(tyres, dict) else None]
+    names = [n for n in names if isinstance(n, str) and not Path(n).is_absolute()]
+    missing = [n for n in names if not _found(n) and (Path(made_in) / n).is_file()]
+    if not missing:
+        return ""
+    return (f"; {scene_path} was run in {made_in}, where its {', '.join(missing)} are: rerun "
+            f"it from there (cd {made_in})")
+
+
+def _found(name):
+    try:
+        return data_path(name).exists()
+    except DataFileError:
+        return True

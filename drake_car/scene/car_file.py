@@ -41,10 +41,13 @@ def read_car_file(name) -> HardPointCar:
     if not path.exists():
         raise SceneError(f"{where}: car file not found"
                          + ("" if Path(name).is_absolute() else f" ({where_data_is(name)})"))
-    text = guarded(read_yaml_file, path)
+    try:
+        text = guarded(read_yaml_file, path, "car file")
+    except SceneError as e:  # a folder, a device, too big: said of the car_file named
+        raise SceneError(f"{where}: {e}") from None
     guarded(check_yaml, text, where)
     try:
-        raw = yaml_load(data=text)
+        raw = yaml_load(data=text) if text.strip() else None  # Drake's reads "" as no data
     except Exception as e:
         raise SceneError(f"{where}: not YAML: {one_line(e)}") from None
     if not isinstance(raw, dict):

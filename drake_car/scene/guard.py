@@ -29,9 +29,10 @@ class YamlInputError(InputError):
     """YAML refused before parsing; the message names where and why."""
 
 
-def read_yaml_file(path):
+def read_yaml_file(path, kind="scene file"):
     """The text of the YAML file ``path`` (a regular file under MAX_YAML_BYTES), checked by
-    ``check_yaml``. A missing file, a folder, a device: YamlInputError naming it."""
+    ``check_yaml``. A missing file, a folder, a device: YamlInputError naming it as what it
+    should be (``kind``: a scene file, a car file)."""
     path = Path(path)
     try:
         with open(path, "rb") as f:
@@ -39,21 +40,21 @@ def read_yaml_file(path):
             import stat
             info = os.fstat(f.fileno())
             if stat.S_ISDIR(info.st_mode):
-                raise YamlInputError(f"{path}: is a folder, not a scene file")
+                raise YamlInputError(f"{path}: is a folder, not a {kind}")
             if not stat.S_ISREG(info.st_mode):
-                raise YamlInputError(f"{path}: not a regular file; a scene file is YAML text")
+                raise YamlInputError(f"{path}: not a regular file; a {kind} is YAML text")
             if info.st_size > MAX_YAML_BYTES:
-                raise YamlInputError(f"{path}: {info.st_size} bytes; scene files are limited "
+                raise YamlInputError(f"{path}: {info.st_size} bytes; a {kind} is limited "
                                      f"to {MAX_YAML_BYTES} bytes")
             data = f.read(MAX_YAML_BYTES + 1)
     except IsADirectoryError:
-        raise YamlInputError(f"{path}: is a folder, not a scene file") from None
+        raise YamlInputError(f"{path}: is a folder, not a {kind}") from None
     except FileNotFoundError:
-        raise YamlInputError(f"{path}: scene file not found") from None
+        raise YamlInputError(f"{path}: {kind} not found") from None
     except OSError as e:
         raise YamlInputError(f"{path}: cannot be read: {e.strerror or e}") from None
     if len(data) > MAX_YAML_BYTES:
-        raise YamlInputError(f"{path}: over {MAX_YAML_BYTES} bytes; scene files are limited "
+        raise YamlInputError(f"{path}: over {MAX_YAML_BYTES} bytes; a {kind} is limited "
                              f"to {MAX_YAML_BYTES} bytes")
     try:
         text = data.decode("utf-8")

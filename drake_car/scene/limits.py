@@ -12,9 +12,10 @@ trust a checked scene.
   has relaxation data when the scene takes them from the file (the file's own values, e.g.
   relaxation lengths > 0 over its load range, are checked once, when it is read:
   ``law.tyre.plausibility``). A ``combined_slip: true`` on a file without a combined-slip fit
-  (RBX1/RBY1 zero or absent) runs (it still acts through the aligning moment) but is said: a
-  warning, once per file in a process (``law.tyre.plausibility.combined_slip_note``), and a
-  line in every report.
+  (RBX1/RBY1 zero or absent) runs (it still acts through the aligning moment) but is said:
+  a note (information: what it means for the results and what to do,
+  ``law.tyre.plausibility.combined_slip_said``), once per file in a process, and a line in
+  every report.
 - The driver against the manoeuvre (``check_driver``): a ``!PathFollower`` only on a manoeuvre
   defined by a path, such a manoeuvre only with it, its chassis channels logged (its outcome is
   judged from them), the driver's period no shorter than the step, the body no narrower than
@@ -31,7 +32,7 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 
 from drake_car.law.checks import ParameterError
 from drake_car.law.tyre.magic_formula import magic_formula, relaxation_lengths_m
-from drake_car.law.tyre.plausibility import combined_slip_note
+from drake_car.law.tyre.plausibility import combined_slip_said
 from drake_car.law.tyre.slip import explicit_time_step_limit_s as tyre_time_step_limit_s
 from drake_car.model.anti_roll_bar import time_step_limit_s as bar_time_step_limit_s
 from drake_car.model.loading import read_tyre
@@ -138,10 +139,10 @@ def _check_tyre_file(scene):
             "lane change: a tyre for a "
             + ("heavier" if wheel_N < tyre.FZMIN else "lighter") + " vehicle")
     warn_radius(tyres.tir_file, car)
-    note = combined_slip_note(tyre) if getattr(tyres, "combined_slip", False) else None
-    if note and note not in _SAID:
-        _SAID.add(note)
-        log.warning("tyres.combined_slip: true: %s", note)
+    note = combined_slip_said(tyre) if getattr(tyres, "combined_slip", False) else None
+    if note and (tyres.tir_file, note) not in _SAID:  # information: the run is the file's
+        _SAID.add((tyres.tir_file, note))
+        log.info("tyres.tir_file %s: %s", tyres.tir_file, note)
     slip = tyres.slip
     if slip.relaxation and slip.relaxation_lengths_from_file:
         sigma = relaxation_lengths_m(tyre, wheel_N)

@@ -104,6 +104,11 @@ def load_scene_file(path, scene_text=None):
             for child in _read_entries(Path(path))}
 
 
+def scene_entries(path):
+    """The names of a scene file's entries (its scenes; templates, "_..." entries, left out)."""
+    return _read_entries(Path(path))
+
+
 def load_scene_text(text, where):
     """The scene of a scene file's text holding one entry (``dump_scene_file``'s), checked."""
     return check_scene(parse_scene_text(text, where), where)

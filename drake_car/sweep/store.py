@@ -20,7 +20,8 @@ from drake_car.law.tyre.tir import read_tir_bytes
 from drake_car.model.loading import tir_path
 from drake_car.results.columns import folder_readme
 from drake_car.results.files import named, write_text
-from drake_car.results.folder import OutputError, check_no_run_in_progress, os_error_reason
+from drake_car.results.folder import (
+    OutputError, check_no_run_in_progress, check_writable, os_error_reason)
 from drake_car.results.folder import folder_lock as results_folder_lock
 from drake_car.results.lock import holder
 from drake_car.results.provenance import code_versions
@@ -358,6 +359,7 @@ def check_sweep_folder(out):
         probe = probe.parent
     if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
         raise OutputError(f"--out {out}: {probe} is not a writable folder")
+    check_writable(out, probe)
     check_unlocked(out)
     check_no_run_in_progress(out)  # not inside or around another command's output in progress
     if out.is_dir():

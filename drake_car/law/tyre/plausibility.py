@@ -179,6 +179,32 @@ def wheel_load_note(tyre, wheel_loads_N):
             "vehicle, its forces here extrapolate the fit's load dependence")
 
 
+# What a file without a combined-slip fit means for a run, and what to do (said with the note).
+# Measured: the reviewer's hatch (1350 kg) on Sedan_Pac02Tire.tir in the paper's lane changes at
+# 60 km/h (a_1, a_3: history.csv's kappa_f*, alpha_f*) had front |κ| <= 0.0022 at |α| <= 0.033
+# rad once the speed was held, |κ| <= 0.042 at |α| <= 0.006 rad in the launch; the shipped
+# tyre's fit (tyres/pacejka2006_205_60R15.tir, Fz 3500 N) weakens Fy at κ 0.0022, α 0.033 rad
+# by 0.6 % (magic_formula(..., combined=True) against combined=False).
+COMBINED_SLIP_MEANING = (
+    "grip while the tyre drives or brakes hard in a turn is overstated; a run at held speed "
+    "hardly changes (a 60 km/h lane change: front |κ| < 0.003, where the shipped tyre's fit "
+    "takes 0.6 % off Fy); to model it, add the tyre's combined-slip coefficients (RBX*, RCX1, "
+    "RBY*, RCY1, ...) to the file")
+
+
+def combined_slip_said(tyre):
+    """The one line said at scene load when the file has no combined-slip fit for Fx or Fy
+    (``combined_slip_note``): what it lacks, what that means for the results, what to do;
+    None when it has both."""
+    missing = [key for key in ("RBX1", "RBY1") if getattr(tyre, key) == 0.0]
+    if not missing:
+        return None
+    forces = " and ".join({"RBX1": "Fx", "RBY1": "Fy"}[k] for k in missing)
+    return (f"no combined-slip fit for {forces} ({', '.join(missing)} absent or 0): "
+            f"{forces} {'keep their' if len(missing) == 2 else 'keeps its'} pure-slip value "
+            f"under combined slip, so {COMBINED_SLIP_MEANING}")
+
+
 def combined_slip_note(tyre):
     """One line when the file has no combined-slip fit for Fx or Fy (RBX1 or RBY1 zero, or
     absent and so 0), else None: combined slip then leaves that force at its pure-slip value

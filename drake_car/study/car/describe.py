@@ -7,7 +7,7 @@ version's verdicts are about)."""
 
 import dataclasses
 
-from drake_car.law.tyre.plausibility import combined_slip_note
+from drake_car.law.tyre.plausibility import COMBINED_SLIP_MEANING, combined_slip_note
 from drake_car.model.geometry import design_axle_loads_N, whole_car_cog_to_front_m
 from drake_car.model.loading import read_tyre, tir_path
 from drake_car.model.parameters import CarParameters
@@ -176,7 +176,8 @@ def tyre_words(t):
             ", combined slip" if t["combined_slip"] else ", pure slip (combined_slip: false)")
     text = f"{how} of `{t['file']}` ({t['form']}{slip})"
     if t["combined_note"]:
-        text += f"; **combined_slip: true acts less than its name says**: {t['combined_note']}"
+        text += (f"; **combined_slip: true acts less than its name says**: "
+                 f"{t['combined_note']}. For the results: {COMBINED_SLIP_MEANING}")
     if t.get("relaxation"):
         text += "; " + relaxation_words(t["relaxation"])
     return text

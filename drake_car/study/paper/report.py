@@ -10,6 +10,7 @@ at the finest step tried"."""
 
 import dataclasses
 
+from drake_car.model.loading import working_folder_names
 from drake_car.scene.car_file import car_of_file
 from drake_car.study.car.describe import car_facts, car_lines, own_strut_damping
 from drake_car.study.paper import manoeuvre
@@ -85,6 +86,9 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
         "replay": replay,
         "wall_s": wall_s,
         "provenance": provenance,
+        # the runs' car and tyre files found in the working folder: a rerun starts there
+        "working_folder_files": sorted({n for sc in scenes for n in working_folder_names(
+            [sc.car_file, getattr(sc.tyres, "tir_file", None)])}),
     }
 
 

@@ -218,8 +218,12 @@ def runs_and_files(s):
                      f"{info['frozen_sap_steps']} | `{info['scene_hash']}` |")
     pacer = ("the pacer keeps them at 0" if s.get("sap_pacer", True) else
              "the pacer is off in these scenes (simulator.sap_pacer: false)")
-    lines += ["", "Each run's scene, as it ran, is `<run>/scene.yaml` (rerun it with "
-              "`drake-car-run --scene <run>/scene.yaml --out DIR`). Frozen SAP steps: "
+    files, folder = s.get("working_folder_files"), s["provenance"].get("working_folder")
+    where = (f"from `{folder}`, where its {', '.join(f'`{n}`' for n in files)} are (the scene "
+             "names them relative to that folder): `cd " + folder + " && ") if files and folder \
+        else "with `"
+    lines += ["", "Each run's scene, as it ran, is `<run>/scene.yaml` (rerun it " + where +
+              "drake-car-run --scene <run>/scene.yaml --out DIR`). Frozen SAP steps: "
               "steps in which Drake's solver returned its initial guess "
               f"(`drake_car/systems/sap_pacer.py`); {pacer}.", "",
               "## Files", ""]
