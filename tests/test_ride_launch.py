@@ -8,6 +8,7 @@ flagged on its rows, in the Summary, at the report's top and on stderr."""
 import dataclasses
 import logging
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -165,3 +166,29 @@ def test_the_time_at_rest_is_taken_from_the_users_scene():
     base = base_scene(scene_text="manoeuvre: !Straight {timeline: {settle_s: 0.5}}")
     assert base.manoeuvre.timeline.settle_s == 0.5
     assert ride_timeline(RideStudy(speeds_kph=[60.0]), base, 60.0).settle_s == 0.5
+
+
+@pytest.mark.parametrize("text, what", [
+    ("road: !CosineBump {}", "road"),
+    ("friction: {law: {mu_s: 0.3, mu_d: 0.2}}", "friction.law.mu_s"),
+    ("friction: {law: {mu_d: 0.2}}", "friction.law.mu_d"),
+    ("friction: null", "friction: null"),
+])
+def test_a_stated_road_or_friction_coefficient_is_refused_not_replaced(text, what):
+    """The ride study lays its road (--classes) and sets μs, μd per run: stated, they would be
+    replaced without a word (a review found them dropped), so they are refused."""
+    from drake_car.scene.raw import SceneError
+    with pytest.raises(SceneError, match=rf"--scene_text: states {re.escape(what)}"):
+        base_scene(scene_text=text)
+
+
+def test_the_friction_laws_other_values_scheme_and_pairs_run():
+    """What the study does not set of the friction (a preload, the pairs) runs, at each μs."""
+    from drake_car.study.ride.grid import ride_scene
+    base = base_scene(scene_text="friction: {pairs: translation, law: {preload_force_N: 50.0}}")
+    study = RideStudy(classes=["B"], speeds_kph=[60.0])
+    scene = ride_scene(study, "B", 60.0, 0.3, base=base)
+    assert scene.friction.pairs == "translation"
+    assert scene.friction.law.preload_force_N == 50.0
+    assert (scene.friction.law.mu_s, scene.friction.law.mu_d) == (0.3, pytest.approx(0.225))
+    assert ride_scene(study, "B", 60.0, 0.0, base=base).friction is None  # the lubricated run

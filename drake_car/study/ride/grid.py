@@ -120,6 +120,18 @@ def _refuse_what_the_study_sets(raw, where):
     """A user's scene that states a value of the timeline the study sets per speed (the speed,
     the launch, the window) is refused: it would be replaced without a word. Only ``settle_s``,
     the time at rest before the launch, is the scene's."""
+    if "road" in raw:
+        raise SceneError(f"{where}: states road; the ride study lays its ISO 8608 road under "
+                         "the car (--classes) and would replace it: leave it out")
+    if "friction" in raw:
+        law = raw["friction"].get("law") if isinstance(raw["friction"], dict) else None
+        stated_mu = [k for k in ("mu_s", "mu_d") if isinstance(law, dict) and k in law]
+        if raw["friction"] is None or stated_mu:
+            what = "friction: null" if raw["friction"] is None else f"friction.law.{stated_mu[0]}"
+            raise SceneError(f"{where}: states {what}; the ride study sets the struts' friction "
+                             "per run (μs 0, the lubricated strut, to 0.4; μd 0.75 μs) and would "
+                             "replace it: leave it out (the law's other values, the scheme and "
+                             "the pairs you state run)")
     manoeuvre = raw.get("manoeuvre")
     if not isinstance(manoeuvre, dict) or manoeuvre.get("_tag", "!Straight") != "!Straight":
         return  # none, or another manoeuvre: refused below unless a later layer replaces it
@@ -191,10 +203,11 @@ def ride_scene(study: RideStudy, road_class, speed_kph, mu_s, *, half=False, bas
     road_m = study.road_m(launches)
     road = _road(road_class, study.seed, road_m, track)
     car, friction = base.car, None
-    if mu_s > 0:
-        law = dataclasses.replace(StrutFrictionParameters(), mu_s=float(mu_s),
+    if mu_s > 0:  # the base scene's friction (its law's other values, scheme, pairs) at μs
+        stated = base.friction or Friction(law=StrutFrictionParameters())
+        law = dataclasses.replace(stated.law, mu_s=float(mu_s),
                                   mu_d=study.mu_d_ratio * float(mu_s))
-        friction = Friction(law=law)
+        friction = dataclasses.replace(stated, law=law)
         if study.strut == "paper":
             car = dataclasses.replace(car, front=dataclasses.replace(car.front,
                                                                      strut_damping_Nspm=0.0))
