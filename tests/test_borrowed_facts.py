@@ -82,6 +82,8 @@ def test_a_car_file_with_the_default_drive_is_warned_once(caplog):
         load_scene(base=paper_scene("a_1"), scene_text=f"{{car_file: {CAR_FILE}, drive: "
                    "!OpenDifferential {max_wheel_torque_Nm: 2500.0}}")
         load_scene()  # the shipped car: its own drive
+        # a car at rest (car checks, settle, the strut rig): nothing launches
+        load_scene(scene_text=f"{{car_file: {CAR_FILE}, manoeuvre: !Settle {{}}}}")
     assert not _said(caplog, "max_wheel_torque_Nm")
 
 
@@ -140,6 +142,10 @@ def test_the_car_s_strut_damping_is_its_own_not_a_friction_set_s():
     same = [dataclasses.replace(sc, car=dataclasses.replace(sc.car, front=dataclasses.replace(
         sc.car.front, strut_damping_Nspm=1657.0))) for sc in scenes.values()]
     assert own_strut_damping(same) == (1657.0, "every run's scene")
+    # One friction set (every run the same set): its damping is the set's, not the car's own.
+    one_set = [dataclasses.replace(sc, friction=same[-1].friction) for sc in same]
+    value, source = own_strut_damping(one_set)
+    assert source != "every run's scene" and CAR_FILE in source
 
 
 # -- B4: --no_verify's last line -------------------------------------------------------------

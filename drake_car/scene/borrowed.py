@@ -114,7 +114,8 @@ def say_borrowed(scene, where="scene"):
     """Warns on stderr, once per process and value, where a loaded scene's car runs with the
     shipped car's drive torque or leaves its tyre file's relaxation data unused."""
     limit = drive_limit(scene)
-    if scene.car_file and limit is not None and limit["source"] == "shipped":
+    if (scene.car_file and getattr(scene.manoeuvre, "drives", False) and limit is not None
+            and limit["source"] == "shipped"):  # a scene that launches: not a settle
         key = ("drive", limit["max_wheel_torque_Nm"])
         if key not in _SAID:
             _SAID.add(key)

@@ -80,9 +80,13 @@ def tyre_facts(scene):
 def own_strut_damping(scenes):
     """(N s/m, its source in words) of the car's own front strut damping, for a study whose
     runs set it per friction set (the paper's): every run's where they agree (the user's scene
-    gave it), else the car file's, else the shipped Escort's (``CarParameters``)."""
+    gave it, as sets that differ in their friction do not), else the car file's, else the
+    shipped Escort's (``CarParameters``). A study of one set says nothing of the car's own: its
+    damping is the set's."""
     values = {s.car.front.strut_damping_Nspm for s in scenes}
-    if len(values) == 1:
+    sets = {None if s.friction is None else (s.friction.law.mu_s, s.friction.law.mu_d)
+            for s in scenes}
+    if len(values) == 1 and len(sets) > 1:
         return values.pop(), "every run's scene"
     car_file = scenes[0].car_file
     if car_file:
