@@ -3,7 +3,6 @@ the pull distance, a run that failed) and where a test cannot conclude: it says 
 (why)" and draws no conclusion from the missing values; no numpy warning. Built from report
 inputs made here (the rows of the table as ``analysis.table`` gives them), no simulation."""
 
-import dataclasses
 import math
 import warnings
 
@@ -167,3 +166,17 @@ def test_a_measured_pull_reads_as_before(pull):
     text = "\n".join(_answers(_table(pull=pull)))
     assert "not measured" not in text and "nan" not in text.lower()
     assert "the pull is 0.01 deg (median)" in text
+
+
+def test_a_crossing_across_a_cell_not_measured_is_said_to_lie_between_its_neighbours():
+    # A row of three cells, the middle not measured, the threshold crossed between the two
+    # measured ones: the crossing is not drawn at an interpolated x inside the gap.
+    import dataclasses
+    spec = dataclasses.replace(STUDY.maps[0], points=3)
+    study = dataclasses.replace(STUDY, maps=[spec])
+    pulls = [0.1, math.nan, 0.9] + [0.1, 0.2, 0.3] * 2
+    rows = [_row(f"map0_{k:03d}", "map", p) for k, p in enumerate(pulls)]
+    text = answers.boundary_lines(study, spec, rows, "pull_deg", 1.0, 0.5, "The pull")
+    fx, xs = answers.factor(study, spec.x), tables.map_grid(study, spec, rows, "pull_deg")[0]
+    assert f"{fx.label} between {xs[0]:.3g} and {xs[2]:.3g} (not measured between)" in text, text
+    assert "≈" not in text.split(";")[0]

@@ -31,6 +31,18 @@ def _where(x, xs, label):
             f"already at {label} = {xs[0]:.3g}" if x == -math.inf else f"{label} ≈ {x:.3g}")
 
 
+def _across_gap(x, at, xs, label):
+    """``_where`` of a crossing at ``x`` found along the measured ``at`` of a row whose grid is
+    ``xs``: where the two measured cells around it have an unmeasured one between them, the
+    crossing is said to lie between them, not drawn through the gap."""
+    if x is None or x == -math.inf:
+        return _where(x, at, label)
+    i = next(k for k in range(1, len(at)) if at[k - 1] <= x <= at[k])
+    if any(at[i - 1] < g < at[i] for g in xs):
+        return f"{label} between {at[i - 1]:.3g} and {at[i]:.3g} ({NOT_MEASURED} between)"
+    return f"{label} ≈ {x:.3g}"
+
+
 def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0):
     """Plain words for a map's boundary: per row (y), where along x the outcome crosses the
     threshold; with errors (each cell's ``<outcome>_error`` where the rows have it, else
@@ -38,7 +50,8 @@ def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0
     above the threshold) against where it may (|value| + error above it): a boundary is not
     drawn finer than the errors; the cells not converged are named with their values at each
     step. Cells not measured (``unmeasured.why``) are said, and no crossing is drawn through
-    them: along a row, only the measured cells count."""
+    them: along a row, only the measured cells count, and a crossing between two measured cells
+    with an unmeasured one between them is said to lie between them."""
     fx, fy = factor(study, spec.x), factor(study, spec.y)
     xs, ys, values = map_grid(study, spec, rows, outcome, scale)
     head = f"{unit} beyond the threshold over {fx.label} × {fy.label}: "
@@ -60,12 +73,12 @@ def boundary_lines(study, spec, rows, outcome, scale, threshold, unit, noise=0.0
         sure = _crossing(at, np.maximum(v - e, 0.0), threshold)
         maybe = _crossing(at, v + e, threshold)
         if sure != maybe:
-            where = (f"from {_where(maybe, at, fx.label)} (within the error) to "
-                     f"{_where(sure, at, fx.label)} (beyond it)")
+            where = (f"from {_across_gap(maybe, at, xs, fx.label)} (within the error) to "
+                     f"{_across_gap(sure, at, xs, fx.label)} (beyond it)")
         else:
             x = sure
             where = _where(x, at, fx.label) if x is None or x == -math.inf else \
-                f"from {fx.label} ≈ {x:.3g}"
+                f"from {_across_gap(x, at, xs, fx.label)}"
         if not ok.all():
             where = (where.replace("nowhere in the range", "nowhere among the measured cells")
                      + f" ({NOT_MEASURED} at {fx.label} = "
