@@ -175,3 +175,12 @@ def test_the_suggested_scene_text_reads_back_as_the_entry_s_values():
     assert yaml_load(data=flow_yaml(raw)) == raw
     assert suggestion({}) == ("--scene_text '{car_file: FILE, tyres: !MagicFormula {tir_file: "
                               "FILE}}'")
+
+
+@pytest.mark.parametrize("value", [1e-05, 1e16, -2.5e-7, 0.5, 3, ".inf", "cars/x.yaml", True])
+def test_a_suggested_value_reads_back_as_itself(value):
+    """Flow YAML of any value reads back equal: YAML 1.1 reads ``1e-05`` (no dot) as a string
+    and a bare ``.inf`` as a float."""
+    from pydrake.common.yaml import yaml_load
+    raw = {"car": {"front": {"value": value}}}
+    assert yaml_load(data=flow_yaml(raw)) == raw

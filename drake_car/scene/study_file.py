@@ -73,6 +73,10 @@ def flow_yaml(value):
     if value is None:
         return "null"
     if isinstance(value, str):
-        bare = _BARE.match(value) and value.lower() not in _WORDS
+        bare = _BARE.match(value) and value.lower() not in _WORDS and value[0] != "."
         return value if bare else json.dumps(value)
+    if isinstance(value, float):  # YAML 1.1 reads 1e-05 as a string: a dot in the mantissa
+        text = repr(value)
+        mantissa, e, exponent = text.partition("e")
+        return (mantissa if "." in mantissa else mantissa + ".0") + e + exponent
     return repr(value)
