@@ -192,11 +192,17 @@ COMBINED_SLIP_MEANING = (
     "RBY*, RCY1, ...) to the file")
 
 
+def _no_combined_fit(tyre):
+    """The combined-slip fit's keys a file leaves at 0 (given so, or absent): RBX1 for Fx under
+    a slip angle, RBY1 for Fy under longitudinal slip."""
+    return [key for key in ("RBX1", "RBY1") if getattr(tyre, key) == 0.0]
+
+
 def combined_slip_said(tyre):
     """The one line said at scene load when the file has no combined-slip fit for Fx or Fy
     (``combined_slip_note``): what it lacks, what that means for the results, what to do;
     None when it has both."""
-    missing = [key for key in ("RBX1", "RBY1") if getattr(tyre, key) == 0.0]
+    missing = _no_combined_fit(tyre)
     if not missing:
         return None
     forces = " and ".join({"RBX1": "Fx", "RBY1": "Fy"}[k] for k in missing)
@@ -212,7 +218,7 @@ def combined_slip_note(tyre):
     other force's weighting, the κ-induced side force RVY*, the aligning moment's combined
     terms) -- for a file with neither, the aligning moment alone."""
     missing = [f"{key} ({'absent' if key in tyre.defaulted else 'given as 0'})"
-               for key in ("RBX1", "RBY1") if getattr(tyre, key) == 0.0]
+               for key in _no_combined_fit(tyre)]
     if not missing:
         return None
     weakened = {"RBX1": "the weakening of Fx by the slip angle",
