@@ -73,3 +73,11 @@ def test_case_b_mirrors_case_a(pairs, bound_m, why):
                                  - (b[f"d_{o}_m"] - b[f"d_{o}_m"][0])))
                    for s, o in (("left", "right"), ("right", "left")))
     assert residual <= bound_m, f"{pairs}: mirror residual {residual:.3g} m above {why}"
+
+
+def test_the_reports_torques_at_the_places_have_no_negative_zero():
+    """The paper report's torque line: a torque that rounds to zero reads 0.000, not -0.000."""
+    from drake_car.study.paper.report_sections import _torque_at_places
+    (line, _) = _torque_at_places({"wheel_torque_at_places_Nm": {"a_1": (-4e-6, 0.0391),
+                                                                 "b_3": (1e-4, -0.17)}})
+    assert "a_1 0.000 / +0.039, b_3 0.000 / -0.170" in line and "-0.000" not in line

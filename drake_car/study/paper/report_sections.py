@@ -199,7 +199,8 @@ def _torque_at_places(s):
     torques = s.get("wheel_torque_at_places_Nm")
     if not torques:
         return []
-    cells = ", ".join(f"{n} {a:+.3f} / {b:+.3f}" for n, (a, b) in sorted(torques.items()))
+    cells = ", ".join(f"{n} {signed(a, 3)} / {signed(b, 3)}"
+                      for n, (a, b) in sorted(torques.items()))
     return [f"The steering-wheel torque at place a / place b [N m], at each run's own step: "
             f"{cells}. Driving straight at place a the car is symmetric and holds none: a "
             "torque there is the launch's broken mirror (round-off amplified where both "
