@@ -32,12 +32,12 @@ def test_one_class_s_slope_is_one_value_and_no_change_reads_minus_zero():
     text = summary_text(_rows())
     assert "+0.040 m/s² per 0.1 of μs (linear fit over μs 0-0.4, class B)" in text, text
     assert " to " not in text.split("per 0.1")[0]
-    assert "rear +0 % at μs 0.4" in text and "-0 %" not in text
+    assert "rear 0 % at μs 0.4" in text and "-0 %" not in text and "+0 %" not in text
     two = summary_text(_rows() + _rows("C", aw=(1.0, 1.1, 1.2, 1.3, 1.4)))
     assert "+0.040 to +0.100 m/s² per 0.1 of μs (linear fit over μs 0-0.4, classes B, C)" \
         in two, two
     assert "-0 " not in cost_table(_rows(rear=(0.1,) * 5, aw=(0.5, 0.4999, 0.5, 0.5, 0.5)))
-    assert signed(-0.004) == "+0" and signed(-0.6) == "-1" and signed(-0.0004, 3) == "+0.000"
+    assert signed(-0.004) == "0" and signed(-0.6) == "-1" and signed(-0.0004, 3) == "0.000"
 
 
 def _folder_of_another_car(tmp_path):

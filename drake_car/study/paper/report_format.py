@@ -4,6 +4,7 @@ and figure links (pure formatting, no study logic)."""
 
 import math
 
+from drake_car.results.numbers import signed  # noqa: F401 (report_sections takes it from here)
 from drake_car.study.paper.local_route import local_error
 
 SYMBOLS = {"<=": "≤", "<": "<", ">": ">", ">=": "≥", "==": "="}
@@ -93,12 +94,6 @@ def verdict_text(c, s):
         return (f"undecided at the finest step tried ({1e3 * r.get('finest_step_s', 0):g} ms, "
                 f"{r.get('wall_s', 0):.0f} s of wall); at it: {word.strip('*')}")
     return word
-
-
-def signed(value, digits):
-    """``value`` with its sign, no "-0.00" for what rounds to zero."""
-    shown = f"{value:+.{digits}f}"
-    return shown[1:] if float(shown) == 0 else shown
 
 
 def span(interval):

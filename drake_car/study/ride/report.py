@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from drake_car.results.numbers import signed
 from drake_car.scene.borrowed import drive_limit, drive_limit_words
 from drake_car.scene.launch import launch_limits
 from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH
@@ -25,12 +26,6 @@ COLUMNS = (("aw_seat_mps2", "a_w seat [m/s²]", 3), ("pitch_acc_rms_radps2", "pi
            ("dlc_rear", "DLC rear", 4), ("stick_left", "stick L", 3),
            ("stick_right", "stick R", 3), ("friction_mean_N", "mean |F_fric| [N]", 0),
            ("normal_mean_N", "mean N [N]", 0))
-
-
-def signed(x, digits=0):
-    """``x`` with its sign, rounded to ``digits``; a value that rounds to zero is "+0" (never
-    "-0", which reads as a change)."""
-    return f"{round(x, digits) + 0.0:+.{digits}f}"
 
 
 def slope_words(slopes, classes):
