@@ -22,6 +22,7 @@ from pathlib import Path
 
 from drake_car.law.checks import one_line
 from drake_car.law.errors import InputError, RunFailed
+from drake_car.law.input_file import check_input_option
 from drake_car.results.folder import check_output_target
 from drake_car.sweep.scheduler import SCHEDULER_ADDRESS
 
@@ -73,6 +74,10 @@ class CommandParser(argparse.ArgumentParser):
         if scheduler and not SCHEDULER_ADDRESS.match(scheduler):
             raise InputError(f"--scheduler {scheduler}: not a Dask scheduler address; give "
                              "tcp://HOST:PORT")
+        if getattr(parsed, "scene", None):  # a named pipe would block its reader: refused here
+            from drake_car.scene.load import parse_scene_option
+            check_input_option("--scene", parse_scene_option(parsed.scene)[0], "scene file",
+                               is_text="YAML text")
         return parsed, rest
 
 

@@ -45,6 +45,7 @@ import time
 
 from drake_car.commands import cli
 from drake_car.data import resource
+from drake_car.law.input_file import check_input_option
 from drake_car.scene.load import parse_scene_option
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import OutputError, check_output_target, output_folder
@@ -92,6 +93,7 @@ def main(argv=None):
                    "runs are refined and to what)")
     args = p.parse_args(argv)
     path, child = parse_scene_option(args.study)
+    check_input_option("--study", path, "study file", is_text="YAML text")
     study = load_study(path, child, args.scene_text or None,
                        scene=parse_scene_option(args.scene) if args.scene else None)
     study, adapted = base_car.adapted_base(study, stated=_stated(args))

@@ -7,11 +7,11 @@ on it, memoised per node, in time linear in the document."""
 
 import logging
 import re
-from pathlib import Path
 
 import yaml
 
 from drake_car.law.checks import excerpt
+from drake_car.law.input_file import read_input_file
 from drake_car.law.road.profiles import MAX_ROAD_SAMPLES, ROAD_SAMPLE_BYTES, ROAD_SAMPLE_S
 from drake_car.law.errors import InputError
 
@@ -33,29 +33,8 @@ def read_yaml_file(path, kind="scene file"):
     """The text of the YAML file ``path`` (a regular file under MAX_YAML_BYTES), checked by
     ``check_yaml``. A missing file, a folder, a device: YamlInputError naming it as what it
     should be (``kind``: a scene file, a car file)."""
-    path = Path(path)
-    try:
-        with open(path, "rb") as f:
-            import os
-            import stat
-            info = os.fstat(f.fileno())
-            if stat.S_ISDIR(info.st_mode):
-                raise YamlInputError(f"{path}: is a folder, not a {kind}")
-            if not stat.S_ISREG(info.st_mode):
-                raise YamlInputError(f"{path}: not a regular file; a {kind} is YAML text")
-            if info.st_size > MAX_YAML_BYTES:
-                raise YamlInputError(f"{path}: {info.st_size} bytes; a {kind} is limited "
-                                     f"to {MAX_YAML_BYTES} bytes")
-            data = f.read(MAX_YAML_BYTES + 1)
-    except IsADirectoryError:
-        raise YamlInputError(f"{path}: is a folder, not a {kind}") from None
-    except FileNotFoundError:
-        raise YamlInputError(f"{path}: {kind} not found") from None
-    except OSError as e:
-        raise YamlInputError(f"{path}: cannot be read: {e.strerror or e}") from None
-    if len(data) > MAX_YAML_BYTES:
-        raise YamlInputError(f"{path}: over {MAX_YAML_BYTES} bytes; a {kind} is limited "
-                             f"to {MAX_YAML_BYTES} bytes")
+    data = read_input_file(path, kind, limit=MAX_YAML_BYTES, is_text="YAML text",
+                           error=YamlInputError)
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:

@@ -5,10 +5,9 @@ table sections and the units: ``law.tyre.property_file``); it raises ``TirFileEr
 file and the line for anything it cannot read.
 """
 
-import os
-import stat
 from pathlib import Path
 
+from drake_car.law.input_file import read_input_file
 from drake_car.law.tyre.property_file import TirFileError, parse
 
 __all__ = ["TirFileError", "parse_tir", "read_tir", "read_tir_bytes", "format_tir"]
@@ -38,27 +37,8 @@ MAX_TIR_BYTES = 1_000_000
 def read_tir_bytes(path):
     """The bytes of tyre property file ``path``: a regular file of at most MAX_TIR_BYTES, read
     no further than that (a device, a FIFO, a folder or a bigger file: TirFileError)."""
-    path = Path(path)
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-    except FileNotFoundError:
-        raise TirFileError(f"{path}: tyre property file not found") from None
-    except OSError as e:
-        raise TirFileError(f"{path}: cannot be opened: {e.strerror or e}") from None
-    kind = os.fstat(fd).st_mode
-    if not stat.S_ISREG(kind):
-        os.close(fd)
-        raise TirFileError(f"{path}: is a folder, not a tyre property file" if stat.S_ISDIR(kind)
-                           else f"{path}: not a regular file; a .tir file is plain text")
-    with os.fdopen(fd, "rb") as f:
-        try:
-            data = f.read(MAX_TIR_BYTES + 1)
-        except OSError as e:
-            raise TirFileError(f"{path}: cannot be read: {e.strerror or e}") from None
-    if len(data) > MAX_TIR_BYTES:
-        raise TirFileError(f"{path}: over {MAX_TIR_BYTES} bytes; a .tir file is at most "
-                           f"{MAX_TIR_BYTES} bytes (Magic Formula files are 10-30 kB)")
-    return data
+    return read_input_file(path, "tyre property file", limit=MAX_TIR_BYTES,
+                           is_text="plain text (a .tir file)", error=TirFileError)
 
 
 def format_tir(tir, header=""):

@@ -19,6 +19,7 @@ from pydrake.common.yaml import yaml_load_typed
 
 from drake_car.law.road.profiles import SampledProfile
 from drake_car.law.checks import one_line
+from drake_car.scene.guard import read_yaml_file
 from drake_car.scene.load import SceneError, check_scene, hands_off_release_s, load_scene
 from drake_car.scene.manoeuvres import LaneChange, speed_profile
 from drake_car.scene.scene import HandsOff, Scene
@@ -145,8 +146,9 @@ def load_study(path, child=None, scene_text=None, scene=None) -> DesignStudy:
     FILE}}"``) laid over that, so over every run's; checked: the base must change lanes (the
     study's runs do), every factor's range, line and mitigation must still make valid
     scenes."""
+    text = read_yaml_file(path, "study file")  # a regular file, bounded, before Drake's parser
     try:
-        study = yaml_load_typed(schema=DesignStudy, filename=str(path), child_name=child,
+        study = yaml_load_typed(schema=DesignStudy, data=text, child_name=child,
                                 defaults=DesignStudy())
     except Exception as e:
         raise SceneError(f"{path}: {one_line(e)}") from None

@@ -31,10 +31,12 @@ sliding) does not describe the loop, and μs, μd are not confident values.
 
 import csv
 import dataclasses
+import io
 import math
 
 import numpy as np
 
+from drake_car.law.input_file import read_input_file
 from drake_car.sim.rigs.at_rest import SIDE_FORCE_POINT_BELOW_TOP_M
 from drake_car.sim.rigs.strut import (
     MAX_STROKE_AMPLITUDE_M, StrutRigOptions, eq4_normal_force_N, stroke_limit_m)
@@ -51,6 +53,8 @@ TEST_TOLERANCE = 0.05
 # [EST] a residual more than this many times the loop's noise is not noise: the law does not
 # describe the loop (a white noise gives a ratio of 1; the synthetic loop gives 1.0).
 RESIDUAL_RATIO = 3.0
+# [EST] a measured loop's size limit: 100 s sampled at 10 kHz, ~40 bytes a row, is 40 MB.
+MAX_LOOP_BYTES = 64_000_000
 
 
 @dataclasses.dataclass
@@ -62,14 +66,16 @@ class Loop:
 
 def read_loop(path):
     """The loop of CSV ``path`` (columns stroke_m, force_N, optionally t_s); LoopError."""
+    data = read_input_file(path, "measured loop", limit=MAX_LOOP_BYTES, error=LoopError,
+                           is_text="a CSV file", where="")
     try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(io.StringIO(data.decode("utf-8"), newline="")))
         columns = {name: np.array([float(r[name]) for r in rows])
                    for name in ("stroke_m", "force_N", "t_s") if rows and name in rows[0]}
         stroke, force = columns["stroke_m"], columns["force_N"]
-    except OSError as e:
-        raise LoopError(f"cannot be read: {e.strerror or e}") from None
+    except UnicodeDecodeError as e:
+        raise LoopError(f"not a text file (byte {e.start} is not UTF-8); a measured loop is a "
+                        "CSV file") from None
     except (KeyError, ValueError, TypeError) as e:
         raise LoopError(f"must be a CSV with columns stroke_m, force_N and optionally t_s, "
                         f"numbers ({type(e).__name__}: {e})") from None
