@@ -3,6 +3,7 @@ bit-identical to what was settled; a damaged or foreign entry is ignored and rec
 
 import dataclasses
 import json
+import logging
 
 import pytest
 
@@ -59,6 +60,48 @@ def test_a_damaged_entry_is_recomputed(cache, damage):
     _settled.cache_clear()
     assert dataclasses.asdict(static_equilibrium(scene)) == dataclasses.asdict(settled)
     assert equilibrium_cache.load(settle_yaml) is not None, "the recomputed entry is written"
+
+
+@pytest.mark.parametrize("damage", ["overlap a list", "positions cut to 5", "positions a dict",
+                                    "no equilibrium", "a list"])
+def test_a_malformed_entry_is_ignored_with_a_warning(cache, damage):
+    """Valid JSON with its own key but a value of the wrong shape (review rv44: a list for
+    overlap_m raised AttributeError; 5 positions stopped the run in Drake's SetPositions): the
+    entry is ignored, one warning names its file, the car is settled again and runs."""
+    from drake_car.sim.simulate import simulate
+    scene = _scene()
+    settled = static_equilibrium(scene)
+    (entry,) = cache.glob("*.json")
+    data = json.loads(entry.read_text())
+    e = data["equilibrium"]
+    if damage == "overlap a list":
+        e["overlap_m"] = list(e["overlap_m"].values())
+    elif damage == "positions cut to 5":
+        e["positions"] = e["positions"][:5]
+    elif damage == "positions a dict":
+        e["positions"] = {"q": 1.0}
+    elif damage == "no equilibrium":
+        data["equilibrium"] = 3
+    else:
+        data = [data]
+    entry.write_text(json.dumps(data))
+    _settled.cache_clear()
+    records = []
+    handler = logging.Handler(logging.WARNING)
+    handler.emit = records.append  # the module's own logger: the commands' set-up stops propagation
+    logger = logging.getLogger(equilibrium_cache.__name__)
+    logger.addHandler(handler)
+    try:
+        run = simulate(car_scene("straight", "simulator: {equilibrium_settle_s: 0.1, "
+                                             "start: static_equilibrium, end_time_s: 0.01}"))
+    finally:
+        logger.removeHandler(handler)
+    assert len(run.history["t"]) > 0
+    messages = [r.getMessage() for r in records]
+    assert len(messages) == 1 and str(entry) in messages[0], messages
+    assert "damaged equilibrium cache entry" in messages[0]
+    _settled.cache_clear()
+    assert dataclasses.asdict(static_equilibrium(scene)) == dataclasses.asdict(settled)
 
 
 def test_the_key_names_the_code_and_the_scene(cache):

@@ -23,6 +23,7 @@ import dataclasses
 import functools
 import hashlib
 import json
+import logging
 import math
 import os
 import sys
@@ -36,6 +37,7 @@ ENVIRONMENT_VARIABLE = "DRAKE_CAR_CACHE_DIR"
 FORMAT = 1  # bump when an entry's layout changes
 _PACKAGE = Path(__file__).resolve().parents[1]  # drake_car/
 _FIELDS = [f.name for f in dataclasses.fields(Equilibrium)]
+log = logging.getLogger(__name__)
 
 
 def cache_root():
@@ -82,19 +84,41 @@ def entry_key(settle_yaml):
 
 
 def load(settle_yaml):
-    """The cached equilibrium of this settling scene, or None (absent, off, or not whole)."""
+    """The cached equilibrium of this settling scene, or None (absent, off, or not whole: a
+    damaged entry is ignored with a warning naming its file)."""
     folder = cache_folder()
     if folder is None:
         return None
     key = entry_key(settle_yaml)
+    path = folder / f"{key}.json"
     try:
-        data = json.loads((folder / f"{key}.json").read_text())
-        if data.get("key") != key or set(data["equilibrium"]) != set(_FIELDS):
-            return None
-        equilibrium = Equilibrium(**data["equilibrium"])
-    except (OSError, ValueError, TypeError, KeyError, AttributeError):
+        text = path.read_text()
+    except FileNotFoundError:
         return None
-    return equilibrium if _whole(equilibrium) else None
+    except (OSError, ValueError) as e:
+        return _ignored(path, f"cannot be read ({type(e).__name__})")
+    try:
+        data = json.loads(text)
+    except ValueError:
+        return _ignored(path, "not JSON (cut short?)")
+    why = _damage(data, key)
+    return _ignored(path, why) if why else Equilibrium(**data["equilibrium"])
+
+
+def discard(settle_yaml, why):
+    """Deletes this settling scene's entry, found damaged by its user (``why``), with a
+    warning naming its file."""
+    folder = cache_folder()
+    if folder is not None:
+        path = folder / f"{entry_key(settle_yaml)}.json"
+        _ignored(path, why)
+        path.unlink(missing_ok=True)
+
+
+def _ignored(path, why):
+    log.warning("%s: a damaged equilibrium cache entry (%s); ignored, the car is settled "
+                "again", path, why)
+    return None
 
 
 def store(settle_yaml, equilibrium: Equilibrium):
@@ -140,9 +164,24 @@ def clear_folder(folder):
     return len(entries)
 
 
-def _whole(e: Equilibrium):
-    numbers = ([*e.positions, *e.overlap_m.values(), *e.corner_loads_N.values(),
-                e.max_abs_velocity, e.settle_s, e.time_step_s])
-    return (bool(e.positions) and all(isinstance(x, (int, float)) and math.isfinite(x)
-                                      for x in numbers))
+def _finite(x):
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
+
+def _damage(data, key):
+    """Why ``data`` (an entry's JSON) is not a whole entry of ``key`` (None: it is)."""
+    if not isinstance(data, dict) or data.get("key") != key:
+        return "not this entry's key"
+    e = data.get("equilibrium")
+    if not isinstance(e, dict) or set(e) != set(_FIELDS):
+        return f"its fields are not {', '.join(_FIELDS)}"
+    if not (isinstance(e["positions"], list) and e["positions"]
+            and all(map(_finite, e["positions"]))):
+        return "positions: not a list of finite numbers"
+    for name in ("overlap_m", "corner_loads_N"):
+        if not (isinstance(e[name], dict) and all(map(_finite, e[name].values()))):
+            return f"{name}: not a mapping to finite numbers"
+    for name in ("max_abs_velocity", "settle_s", "time_step_s"):
+        if not _finite(e[name]):
+            return f"{name}: not a finite number"
+    return None

@@ -159,7 +159,8 @@ class SceneRunner(SlipRunner):
     def start(self):
         """The scene's initial state, then Drake's initialization events."""
         if self.scene.simulator.start == "static_equilibrium":
-            self.built.initial_positions = static_equilibrium(self.scene).positions
+            self.built.initial_positions = static_equilibrium(
+                self.scene, self.built.plant.num_positions(self.built.car.instance)).positions
         estimate = estimate_wall_s(self.scene)
         if self.progress and estimate > ANNOUNCE_WALL_S:
             log.info("%s: %g s at %g s steps, about %.0f min of wall time", self.scene.name,
@@ -192,10 +193,19 @@ def level_runner(scene, branchable, step_s, solver_factor=1.0):
     return SceneRunner(level, branchable=branchable)
 
 
-def static_equilibrium(scene: Scene) -> Equilibrium:
+def static_equilibrium(scene: Scene, positions=None) -> Equilibrium:
     """Where ``scene``'s car rests (``sim.equilibrium``), cached by the settling scene's
-    content."""
-    return _settled(dump_scene(equilibrium_scene(scene)))
+    content. ``positions``: how many the car has, where known (a cached entry with another
+    count is damaged: recomputed)."""
+    settle_yaml = dump_scene(equilibrium_scene(scene))
+    equilibrium = _settled(settle_yaml)
+    if positions is not None and len(equilibrium.positions) != positions:
+        # only an entry from disk can have another count: damaged; settled again
+        equilibrium_cache.discard(settle_yaml, f"positions: {len(equilibrium.positions)} "
+                                               f"values, the car has {positions}")
+        _settled.cache_clear()
+        equilibrium = _settled(settle_yaml)
+    return equilibrium
 
 
 @functools.lru_cache(maxsize=64)

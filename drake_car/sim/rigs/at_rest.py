@@ -135,7 +135,8 @@ def strut_at_rest(scene: Scene, side="left") -> StrutAtRest:
     settle = equilibrium_scene(scene)
     runner = SceneRunner(dataclasses.replace(
         settle, manoeuvre=Settle(duration_s=settle.time_step_s)))
-    runner.built.initial_positions = static_equilibrium(scene).positions
+    runner.built.initial_positions = static_equilibrium(
+        scene, runner.built.plant.num_positions(runner.built.car.instance)).positions
     runner.run()
     built, root = runner.built, runner.root
     q, d, f_t, m_t, n = strut_load(built, root, side, law)
