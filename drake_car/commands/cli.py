@@ -20,6 +20,7 @@ import os
 import sys
 from pathlib import Path
 
+from drake_car.commands import started
 from drake_car.law.checks import one_line
 from drake_car.law.errors import InputError, RunFailed
 from drake_car.law.input_file import check_input_option
@@ -220,14 +221,16 @@ def describe(error):
 
 def run_main(main, argv=None):
     """Runs ``main(argv)``: the input is wrong, the run failed, or the machine refused (an OS
-    error) -> one line on stderr, exit 2; Ctrl-C -> exit 130."""
+    error) -> one line on stderr, exit 2; Ctrl-C -> exit 130 (one line: the interrupt's
+    message where it has one, e.g. what a sweep kept and how to finish it)."""
+    started()  # Ctrl-C while the command's module was imported: handled in drake_car.commands
     try:
         main(argv)
     except (InputError, RunFailed, OSError) as e:
         print(f"error: {describe(e)}", file=sys.stderr)
         raise SystemExit(2) from None
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
+    except KeyboardInterrupt as e:
+        print(f"interrupted: {one_line(e)}" if str(e) else "interrupted", file=sys.stderr)
         raise SystemExit(130) from None
 
 

@@ -27,7 +27,9 @@ failure that names the difference)::
 
 A run folder appears whole (``runs/.tmp-*`` renamed) as its run completes, and its row is
 appended to the index, which is rebuilt from the folders at the start and the end (also on
-Ctrl-C, or SIGTERM made SystemExit: the rest is cancelled). A worker that dies mid-run is
+Ctrl-C, or SIGTERM made SystemExit: the rest is cancelled; Ctrl-C is then a
+``SweepInterrupted`` saying what was kept; the workers ignore SIGINT and are shut down,
+``sweep.cluster``). A worker that dies mid-run is
 restarted by its nanny and its runs handed out again. A failed run is recorded with its error,
 traceback and kind, and the sweep goes on. Kind "run": the simulation raised in ``run_task``;
 not retried (a run is a pure function of its scene: it would fail again). Kind
@@ -63,42 +65,12 @@ from drake_car.scene.scene import Scene
 from drake_car.sim.branch import branch_point, simulate_family
 from drake_car.sim.lane_change_calibration import adapted_scenes
 from drake_car.sim.simulate import simulate
-from drake_car.sweep.scheduler import CONNECT_TIMEOUT_S, check_scheduler
+from drake_car.sweep.cluster import cores, dask_client, local_cluster  # noqa: F401 (theirs)
 from drake_car.sweep.store import (
     INFRASTRUCTURE_FAILURE, RUN_FAILURE, announce, announce_other_code, append_index_row,
     check_layout, commit_run, damage, failure_kind, files_read, key_parts, load_run,
     read_status, run_key, writing)
 from drake_car.systems.failure import SimulationFailure
-
-LOOPBACK = "127.0.0.1"
-
-
-def cores():
-    """The cores this process may run on."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-
-
-def local_cluster(workers=None, **kwargs):
-    """A LocalCluster of ``workers`` single-threaded worker processes (default: one per core),
-    everything listening on 127.0.0.1 (Dask's dashboard would take every interface)."""
-    from distributed import LocalCluster
-    return LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,
-                        host=LOOPBACK, dashboard_address=f"{LOOPBACK}:0", **kwargs)
-
-
-@contextlib.contextmanager
-def dask_client(scheduler=None, workers=None):
-    """A Client of the cluster at ``scheduler`` (left running) or of a ``local_cluster`` of
-    ``workers`` started here and closed on exit. An unreachable scheduler raises OSError."""
-    from distributed import Client
-    if scheduler:
-        check_scheduler(scheduler)
-        with Client(scheduler, timeout=CONNECT_TIMEOUT_S, set_as_default=False) as client:
-            yield client
-        return
-    with local_cluster(workers) as cluster, Client(cluster, set_as_default=False) as client:
-        yield client
-
 
 # -- on the worker ---------------------------------------------------------------------------
 
@@ -341,18 +313,28 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
         status[job.hash] = record["status"]
         counts[record["status"]] += 1
 
-    with writing(out):  # locked, its index rebuilt before and after
-        todo = missing(scenes, out, rerun_failed=rerun_failed, jobs=jobs)
-        for key in jobs.keys() - {job.hash for job in todo}:
-            status[key] = read_status(runs / key)["status"]
-        counts["reused"] = len(status)
-        if todo and client is not None:
-            compute(client, todo, done, progress=progress)
-        elif todo:
-            with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
-                compute(own, todo, done, progress=progress)
+    try:
+        with writing(out):  # locked, its index rebuilt before and after
+            todo = missing(scenes, out, rerun_failed=rerun_failed, jobs=jobs)
+            for key in jobs.keys() - {job.hash for job in todo}:
+                status[key] = read_status(runs / key)["status"]
+            counts["reused"] = len(status)
+            if todo and client is not None:
+                compute(client, todo, done, progress=progress)
+            elif todo:
+                with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
+                    compute(own, todo, done, progress=progress)
+    except KeyboardInterrupt:
+        raise SweepInterrupted(
+            f"{counts['ok'] + counts['failed'] + counts['reused']} of {len(jobs)} runs kept in "
+            f"{out} ({counts['ok'] + counts['failed']} finished now); the same command again "
+            "runs the rest") from None
     return {**counts, "wall_s": time.perf_counter() - began, "status": status,
             "hashes": {name: key for key, job in jobs.items() for name in job.names}}
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C during ``run_sweep``: its message says what was kept and how to finish."""
 
 
 def run_scenes(scenes: dict, *, progress=True, workers=None, scheduler=None,
