@@ -304,9 +304,9 @@ def test_a_bad_accuracy_section_is_refused_by_its_key(tmp_path):
                        ("finest_step_s: .nan", "accuracy.finest_step_s = nan must be"),
                        ("finest_step_s: 5.0e-4", "must be at most a quarter of the base"),
                        ("parts: [map, map]", "must be a list of distinct parts")):
-        spec = tmp_path / "study.yaml"
-        spec.write_text(resource("scenes/studies/design.yaml").read_text()
-                        + f"  accuracy: {{{text}}}\n")
+        spec = tmp_path / "study.yaml"  # the section replaced (a key given twice is refused)
+        shipped = resource("scenes/studies/design.yaml").read_text()
+        spec.write_text(shipped[:shipped.index("  accuracy: {")] + f"  accuracy: {{{text}}}\n")
         with pytest.raises(SceneError, match=says.replace("[", r"\[")):
             load_study(spec, "study")
 

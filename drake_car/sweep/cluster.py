@@ -10,7 +10,8 @@ too; a command's workers ignore it from their first import, ``drake_car.commands
 parent, interrupted, shuts them down. The parent's Dask loggers are quiet while it does (a
 worker still running a simulation is killed after Dask's grace period, which Dask announces),
 and so is each worker's notice of the runs cancelled as it closes: an interrupt is the
-command's one line (``commands.cli.run_main``), not Dask's messages.
+command's one line (``commands.cli.run_main``), not Dask's messages. Ctrl-C while the local
+cluster starts is held until it is up (one interrupted half started cannot be closed).
 """
 
 import contextlib
@@ -50,35 +51,59 @@ def dask_client(scheduler=None, workers=None):
     ``workers`` started here and closed on exit. An unreachable scheduler raises OSError.
     Left by an exception (Ctrl-C, a full disk), Dask's loggers are quiet while it closes."""
     from distributed import Client
-    with _quiet_on_error() as stopping:
+    with _levels_restored():
         if scheduler:
             check_scheduler(scheduler)
             with Client(scheduler, timeout=CONNECT_TIMEOUT_S, set_as_default=False) as client:
-                with stopping:
+                with _quiet_if_left_by_error():
                     yield client
             return
-        with local_cluster(workers) as cluster, Client(cluster, set_as_default=False) as client:
-            with stopping:
+        with _started(workers) as cluster, Client(cluster, set_as_default=False) as client:
+            with _quiet_if_left_by_error():
                 yield client
 
 
+def _started(workers):
+    """A ``local_cluster``, Ctrl-C held while it starts and raised once it is up (it is then
+    closed): a cluster interrupted half started cannot be closed (Dask's exit handler fails
+    with a traceback)."""
+    held = []
+    hold = (threading.current_thread() is threading.main_thread()
+            and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
+    if hold:
+        signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum))
+    try:
+        cluster = local_cluster(workers)
+    finally:
+        if hold:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+    if held:
+        _quiet()
+        cluster.close()
+        raise KeyboardInterrupt
+    return cluster
+
+
+def _quiet():
+    for name in DASK_LOGGERS:
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
 @contextlib.contextmanager
-def _quiet_on_error():
-    """Gives a context that, left by an exception, silences DASK_LOGGERS until this one ends
-    (their levels are then restored)."""
+def _quiet_if_left_by_error():
+    try:
+        yield
+    except BaseException:
+        _quiet()
+        raise
+
+
+@contextlib.contextmanager
+def _levels_restored():
     loggers = [logging.getLogger(name) for name in DASK_LOGGERS]
     levels = [logger.level for logger in loggers]
-
-    @contextlib.contextmanager
-    def stopping():
-        try:
-            yield
-        except BaseException:
-            for logger in loggers:
-                logger.setLevel(logging.CRITICAL + 1)
-            raise
     try:
-        yield stopping()
+        yield
     finally:
         for logger, level in zip(loggers, levels):
             logger.setLevel(level)

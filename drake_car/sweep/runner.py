@@ -325,10 +325,11 @@ def run_sweep(scenes: dict, out_dir, *, client=None, scheduler=None, workers=Non
                 with dask_client(scheduler, min(workers or cores(), len(todo))) as own:
                     compute(own, todo, done, progress=progress)
     except KeyboardInterrupt:
+        now = counts["ok"] + counts["failed"]
         raise SweepInterrupted(
-            f"{counts['ok'] + counts['failed'] + counts['reused']} of {len(jobs)} runs kept in "
-            f"{out} ({counts['ok'] + counts['failed']} finished now); the same command again "
-            "runs the rest") from None
+            f"{now + counts['reused']} of {len(jobs)} runs kept in {out} ({now} finished now); "
+            "the same command again runs the rest" if now + counts["reused"] else
+            f"none of {len(jobs)} runs finished") from None
     return {**counts, "wall_s": time.perf_counter() - began, "status": status,
             "hashes": {name: key for key, job in jobs.items() for name in job.names}}
 
