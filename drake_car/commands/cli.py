@@ -21,9 +21,8 @@ import sys
 from pathlib import Path
 
 from drake_car.commands import started
-from drake_car.law.checks import one_line
+from drake_car.law.checks import check_input_option, one_line
 from drake_car.law.errors import InputError, RunFailed
-from drake_car.law.input_file import check_input_option
 from drake_car.results.folder import check_output_target
 from drake_car.sweep.scheduler import SCHEDULER_ADDRESS
 

@@ -45,7 +45,7 @@ import time
 
 from drake_car.commands import cli
 from drake_car.data import resource
-from drake_car.law.input_file import check_input_option
+from drake_car.law.checks import check_input_option
 from drake_car.scene.load import parse_scene_option
 from drake_car.results.files import write_csv, write_json
 from drake_car.results.folder import OutputError, check_output_target, output_folder

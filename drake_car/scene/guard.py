@@ -10,8 +10,7 @@ import re
 
 import yaml
 
-from drake_car.law.checks import excerpt
-from drake_car.law.input_file import read_input_file
+from drake_car.law.checks import excerpt, read_input_file
 from drake_car.law.road.profiles import MAX_ROAD_SAMPLES, ROAD_SAMPLE_BYTES, ROAD_SAMPLE_S
 from drake_car.law.errors import InputError
 

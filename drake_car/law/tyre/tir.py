@@ -7,7 +7,7 @@ file and the line for anything it cannot read.
 
 from pathlib import Path
 
-from drake_car.law.input_file import read_input_file
+from drake_car.law.checks import read_input_file
 from drake_car.law.tyre.property_file import TirFileError, parse
 
 __all__ = ["TirFileError", "parse_tir", "read_tir", "read_tir_bytes", "format_tir"]

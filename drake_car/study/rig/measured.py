@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from drake_car.law.input_file import read_input_file
+from drake_car.law.checks import read_input_file
 from drake_car.sim.rigs.at_rest import SIDE_FORCE_POINT_BELOW_TOP_M
 from drake_car.sim.rigs.strut import (
     MAX_STROKE_AMPLITUDE_M, StrutRigOptions, eq4_normal_force_N, stroke_limit_m)
