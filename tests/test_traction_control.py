@@ -71,3 +71,19 @@ def test_a_rev_limit_unstable_at_the_step_is_refused():
         load_scene(scene_text=SEDAN % ", governor_gain_Nm_per_radps: 5000.0")
     text = str(found.value)
     assert "drive.governor_gain_Nm_per_radps" in text and "2 I / K" in text, text
+
+
+def test_a_failed_calibration_says_the_speed_it_ran_at():
+    # What a calibration that could not converge reports (its last run's numbers as the
+    # sedan without the clamp made them: 38.9 km/h at place a, spinning its rear wheels).
+    from drake_car.sim.lane_change_calibration import _last_words, calibration_scene
+    scene = load_scene("scenes/paper_study.yaml", child="a_1")
+    calibrating = calibration_scene(scene)
+    last = {"amplitude_m": 0.00875, "second_lobe": 2.0, "shift_m": 4.46,
+            "heading_change_deg": 7.67, "speed_at_place_a_kph": 38.9}
+    text = _last_words(last, calibrating)
+    assert "4.46 m sideways (asked 3.7 m)" in text and "+7.67 deg" in text, text
+    assert "at 38.9 km/h at place a (asked 60 km/h): the car did not reach its speed" in text
+    assert "drive.torque_within_grip" in text
+    at_speed = _last_words(dict(last, speed_at_place_a_kph=59.6), calibrating)
+    assert "did not reach" not in at_speed and "at 59.6 km/h" in at_speed, at_speed
