@@ -1,0 +1,57 @@
+"""A reader's review of the reports' words (a rear-drive 1500 kg sedan with the MF 6.2 tyre):
+each line explains the part that decides, says a borrowed value only where it runs, gives the
+spread that makes a number not converged, and carries no internal references. Fixtures are
+made-up summaries and outcomes, no runs."""
+
+import pytest
+
+from drake_car.study.paper.report_sections import disagreements
+
+
+def _row(name, value, unit="N", relation=None, threshold=None, runs=("a_3",), outcome=None,
+         holds=None):
+    return {"name": name, "value": value, "unit": unit, "relation": relation,
+            "threshold": threshold, "runs": list(runs), "outcomes": [outcome],
+            "decides": relation is not None, "error": None, "converged": None,
+            "steps_s": [0.001], "values": [value], "route": "none", "finest_step_s": 0.001,
+            "limited_by": None, "holds": holds, "margin": None, "decided": None}
+
+
+def _claim_one_summary(set_3_return_m, set_2_return_m, steady_N, peak_N):
+    """Claim 1 as the reviewer's sedan had it: N = 1754 N at rest, sets 1 (damper only),
+    2 (μs 0.2) and 3 (μs 0.4)."""
+    rows = [_row("largest with set 3", set_3_return_m, "m", "<=", 1e-4, ["a_3"], "return_m",
+                 set_3_return_m <= 1e-4),
+            _row("smallest with sets 1, 2", set_2_return_m, "m", ">", 1e-4, ["a_2"],
+                 "return_m", set_2_return_m > 1e-4),
+            _row("hold", 0.4 * 1754.0, outcome="hold_N"),
+            _row("peak", peak_N, outcome="unload_peak_N"),
+            _row("steady", steady_N, outcome="unload_steady_N")]
+    runs = {f"{c}_{k}": {"friction_set": k, "case": c} for c in "ab" for k in (1, 2, 3)}
+    return {"claims": [{"claim": "with set 3 the rods do not return; with sets 1, 2 they do",
+                        "reproduced": False, "decided": None}],
+            "deciding_numbers": [rows], "set_roles": {"high": 3, "others": [1, 2]},
+            "friction_sets": {"1": {"mu_s": 0.0, "mu_d": 0.0}, "2": {"mu_s": 0.2, "mu_d": 0.15},
+                              "3": {"mu_s": 0.4, "mu_d": 0.3}},
+            "timeline_s": {"speed_kph": 60.0}, "speed_at_place_a_kph": {"a_3": 59.9},
+            "runs": runs, "figures": []}
+
+
+def test_claim_one_s_why_explains_the_set_that_fails_it_first():
+    """Set 2 sticks (0.006 mm against > 0.1 mm): the why names it, its hold 0.2 × 1754 = 351 N
+    against the 431 N the launch takes off, and says set 3 agrees; the old why spoke of set 3
+    only ("both are within what static friction holds")."""
+    why = disagreements(_claim_one_summary(4e-6, 6e-6, 431.0, 445.0))[2]
+    turns = why.index("The verdict turns on set 2 (a_2)")
+    assert "0.006 mm as the acceleration ends, where the claim needs > 0.100 mm" in why
+    assert "0.2 × 1754 = 351 N, less than the 431 N" in why and "then stuck" in why
+    assert turns < why.index("Set 3 agrees with the claim (0.004 mm")
+    assert "Set 1 has no dry friction" in why
+    assert "both are within what static friction holds" not in why
+
+
+def test_claim_one_s_why_names_set_3_when_its_rod_returns():
+    why = disagreements(_claim_one_summary(3.3e-3, 3.0e-2, 898.0, 1214.0))[2]
+    assert "The verdict turns on set 3 (a_3): its rod moves 3.300 mm" in why
+    assert "702 N, less than the 898 N" in why and "then stuck" not in why
+    assert "Set 2 agrees with the claim (30.000 mm" in why
