@@ -55,3 +55,34 @@ def test_claim_one_s_why_names_set_3_when_its_rod_returns():
     assert "The verdict turns on set 3 (a_3): its rod moves 3.300 mm" in why
     assert "702 N, less than the 898 N" in why and "then stuck" not in why
     assert "Set 2 agrees with the claim (30.000 mm" in why
+
+
+# -- 2: a borrowed value is said only where it runs --------------------------------------------
+
+class _Stop(Exception):
+    pass
+
+
+@pytest.mark.parametrize("command, stop", [("strut_rig", "rig_study"),
+                                           ("kinematics", "run_kinematics_sweep")])
+def test_the_rigs_say_no_borrowed_drive_or_relaxation(command, stop, tmp_path, capsys,
+                                                      monkeypatch):
+    """The strut rig and the kinematics use the scene's car (the rig: at rest on vertical tyres):
+    with a car file (the shipped drive torque) and a tyre file with unused relaxation data,
+    neither the drive's warning nor the relaxation's is printed, --quiet or not."""
+    import importlib
+    from drake_car.scene import borrowed
+    module = importlib.import_module(f"drake_car.commands.{command}")
+
+    def stop_here(*args, **kwargs):
+        raise _Stop
+
+    monkeypatch.setattr(module, stop, stop_here)
+    borrowed._SAID.clear()
+    with pytest.raises(_Stop):
+        module.main(["--quiet", "--out", str(tmp_path / "out"), "--scene_text",
+                     "{car_file: cars/bmw_320i.yaml, tyres: !MagicFormula {tir_file: "
+                     "tests/data/tyres/Sedan_Pac02Tire.tir}}"])
+    err = capsys.readouterr().err
+    assert "max_wheel_torque_Nm" not in err and "relaxation data of its own" not in err, err
+    borrowed._SAID.clear()
