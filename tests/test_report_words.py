@@ -86,3 +86,20 @@ def test_the_rigs_say_no_borrowed_drive_or_relaxation(command, stop, tmp_path, c
     err = capsys.readouterr().err
     assert "max_wheel_torque_Nm" not in err and "relaxation data of its own" not in err, err
     borrowed._SAID.clear()
+
+
+# -- 3: a number not converged gives the spread that makes it so -------------------------------
+
+def test_a_split_not_converged_gives_its_spread_not_its_value_alone():
+    from drake_car.study.paper.report_sections import split_cell
+    local = {"value": -0.001183, "error": 3.2e-05, "tolerance": 2e-05, "converged": False,
+             "steps_s": [0.001], "values": [-0.001183], "route": "local",
+             "finest_step_s": 0.000125}
+    cell = split_cell(local, 1e3, 3)
+    assert cell.startswith("-1.183 (not converged: ±0.032 from the windows resolved down to "
+                           "0.125 ms, above their tolerance 0.020)"), cell
+    assert "not converged: -1.183" not in cell
+    spread = {"value": -0.00118, "error": 4e-05, "converged": False,
+              "steps_s": [0.004, 0.002, 0.001], "values": [-0.00110, -0.00114, -0.00118]}
+    assert split_cell(spread, 1e3, 2) == ("-1.18 (not converged: -1.10 at 4 ms, -1.14 at 2 ms, "
+                                          "-1.18 at 1 ms)")

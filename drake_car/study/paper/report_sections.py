@@ -4,6 +4,8 @@ drive, the rods at the places and the lasting split (in N, in % of the corner lo
 steering-wheel torque the driver holds), the runs and the files. Every sentence about the car or
 its drive comes from the summary, which the scenes that ran made."""
 
+import math
+
 from drake_car.study.paper.report_format import (
     by_step, error_text, flip, links, quantity, signed, table_row, threshold_text,
     verdict_text)
@@ -156,10 +158,23 @@ def _why_one(s):
 
 
 def split_cell(row, scale, digits, unit=""):
+    """A steady change as the report writes it: its value, ± its converged error; not converged,
+    the spread that makes it so: the values at the steps tried (each step's, in ms), or a
+    locally resolved run's windows' summed error against their tolerance."""
     text = f"{signed(scale * row['value'], digits)}{unit}"
     if row["converged"] is False:
-        return text + " (not converged: " + ", ".join(
-            f"{signed(scale * v, digits)}" for v in row["values"]) + ")"
+        if len(row["values"]) > 1 or row["error"] is None:
+            return text + " (not converged: " + ", ".join(
+                f"{signed(scale * v, digits)} at {1e3 * h:g} ms"
+                for h, v in zip(row["steps_s"], row["values"])) + ")"
+        if not math.isfinite(row["error"]):
+            return text + " (not converged: a window's branch its twins found unsettled)"
+        tolerance = (f", above their tolerance {scale * row['tolerance']:.{digits}f}"
+                     if row.get("tolerance") is not None else "")
+        finest = row.get("finest_step_s")
+        down = f" resolved down to {1e3 * finest:g} ms" if finest else ""
+        return text + (f" (not converged: ±{scale * row['error']:.{digits}f} from the "
+                       f"windows{down}{tolerance})")
     if row["error"] is not None:
         return text + f" ±{scale * row['error']:.{digits}f}"
     return text
