@@ -103,3 +103,31 @@ def test_a_split_not_converged_gives_its_spread_not_its_value_alone():
               "steps_s": [0.004, 0.002, 0.001], "values": [-0.00110, -0.00114, -0.00118]}
     assert split_cell(spread, 1e3, 2) == ("-1.18 (not converged: -1.10 at 4 ms, -1.14 at 2 ms, "
                                           "-1.18 at 1 ms)")
+
+
+# -- 4: the launch's peak μ with the load it was evaluated at -----------------------------------
+
+def test_the_launch_line_gives_the_load_peak_mu_and_the_grip_were_evaluated_at():
+    """μ and the grip come from the fixed point at the grip's own acceleration (its load
+    transfer); the launch line said the load during the (drive-limited) launch beside them."""
+    from conftest import paper_scene
+    from drake_car.model.geometry import design_axle_loads_N
+    from drake_car.scene import launch
+    from drake_car.study.paper.manoeuvre import manoeuvre_section
+    scene = paper_scene("a_1")
+    limits = launch.launch_limits(scene)
+    static = design_axle_loads_N(scene.car)[limits.driven_axle]
+    transfer = launch._axle_load(scene.car, limits.driven_axle)[1]
+    grip = static + transfer * limits.traction_accel_mps2
+    assert limits.grip_load_N == pytest.approx(grip, rel=1e-6)  # the fixed point's 1e-6 m/s²
+    assert limits.peak_mu == pytest.approx(
+        launch.peak_mu(launch._tyre(scene), limits.grip_load_N / 2), rel=1e-9)
+    assert abs(limits.grip_load_N - limits.driven_load_N) > 100  # the two loads differ here
+    la = launch.launch_description(scene)
+    man = {"launch": la | {"reached_within_tolerance_after_s": 3.0, "reached_run": "a_1"},
+           "profile": {"amplitude_m": None, "second_lobe": None}, "calibration": None,
+           "checks": {"a_1": []}, "off": {}}
+    text = "\n".join(manoeuvre_section({"manoeuvre": man}))
+    assert (f"peak μ {limits.peak_mu:.2f} gives at the driven axle's {limits.grip_load_N:.0f} "
+            "N, its load with the transfer at that acceleration") in text, text
+    assert f"{limits.driven_load_N:.0f} N during this launch" in text

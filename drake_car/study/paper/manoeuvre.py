@@ -106,9 +106,10 @@ def manoeuvre_section(s):
              + (f" {drive_limit_words(la['drive_limit'])}," if "drive_limit" in la else "")
              + " through the car's rolling radius and mass with the wheels' spin inertia), "
              f"the car's "
-             f"{la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² (peak μ "
-             f"{la['peak_mu']:.2f} at the driven axle's {la['driven_load_N']:.0f} N during the "
-             f"launch, 90 % of it [EST]): it is limited by {la['limited_by']}, its shortest "
+             f"{la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² (90 % [EST] of "
+             f"what their peak μ {la['peak_mu']:.2f} gives" + _grip_load(la) + "): it is "
+             "limited by "
+             f"{la['limited_by']}, its shortest "
              f"launch {la['shortest_launch_s']:g} s, its speed controller's lag "
              f"{la['lag_s']:.2f} s" + (". It follows the profile" if follows else
                                        ". It falls behind the profile and catches up")
@@ -157,3 +158,16 @@ def _number(value, unit):
     """``value`` to the digits its check needs; no "-0.0000"."""
     shown = f"{value:.{ {'km/h': 2, 'm': 3}.get(unit, 4)}f}"
     return shown.lstrip("-") if float(shown) == 0 else shown
+
+
+def _grip_load(la):
+    """The load the peak μ and the grip were evaluated at: the driven axle's at the grip's
+    limit, with its load transfer (not its load during this launch, where the drive limits it);
+    a summary made before it was recorded says none."""
+    grip = la.get("grip_load_N")
+    if grip is None:
+        return ""
+    during = la["driven_load_N"]
+    return (f" at the driven axle's {grip:.0f} N, its load with the transfer at that "
+            "acceleration" + (f"; {during:.0f} N during this launch" if abs(grip - during) >= 1
+                              else ""))
