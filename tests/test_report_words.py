@@ -131,3 +131,22 @@ def test_the_launch_line_gives_the_load_peak_mu_and_the_grip_were_evaluated_at()
     assert (f"peak μ {limits.peak_mu:.2f} gives at the driven axle's {limits.grip_load_N:.0f} "
             "N, its load with the transfer at that acceleration") in text, text
     assert f"{limits.driven_load_N:.0f} N during this launch" in text
+
+
+# -- 5: round-off of zero prints as 0 -----------------------------------------------------------
+
+def test_a_car_value_that_is_round_off_of_zero_prints_as_0():
+    """The reviewer's car file gives a spring offset of 1.43385e-17 m (0 by construction): the
+    design study's factor table and the car checks' hard-point table print 0."""
+    from drake_car.model.hard_point_table import Row
+    from drake_car.study.design.report import factor_row
+    f = {"key": "car.front.spring_offset_m", "label": "spring offset [m]", "low": -0.03,
+         "high": 0.06, "car": 1.433846272999285e-17, "paper": 0.0, "reason": "why"}
+    assert factor_row(f, False) == ("| spring offset [m] (`car.front.spring_offset_m`) | "
+                                    "-0.03 ... 0.06 | 0 | 0 | why |")
+    assert "| 0.00907523 (outside the range) |" in factor_row(
+        f | {"low": 0.003, "high": 0.009, "car": 0.00907523}, True)  # a value keeps its digits
+    row = Row("spring", "spring offset, lateral / fore-aft", (1.433846e-17, -4.597e-18), "m",
+              "derived")
+    assert row.text() == "0, 0"
+    assert Row("g", "q", (2.5e-4,), "m", "derived").text() == "2.500e-04"
