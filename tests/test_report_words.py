@@ -150,3 +150,35 @@ def test_a_car_value_that_is_round_off_of_zero_prints_as_0():
               "derived")
     assert row.text() == "0, 0"
     assert Row("g", "q", (2.5e-4,), "m", "derived").text() == "2.500e-04"
+
+
+# -- 6: no internal references in what a user reads ---------------------------------------------
+
+def test_no_issue_number_in_what_the_reports_and_commands_print():
+    """Every string the package prints or writes (not a docstring, except a command's: its
+    --help) and the shipped scene files' comments say no "issue N": an issue number means
+    nothing to a user (the ride report's title said "(issue 23)")."""
+    import ast
+    import re
+    from pathlib import Path
+    import drake_car
+    root = Path(drake_car.__file__).parent
+    pattern = re.compile(r"\bissues?\s*#?\d", re.IGNORECASE)
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        docstrings = {id(node.body[0].value) for node in ast.walk(tree)
+                      if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef,
+                                           ast.AsyncFunctionDef))
+                      and node.body and isinstance(node.body[0], ast.Expr)
+                      and isinstance(node.body[0].value, ast.Constant)}
+        if path.parent.name == "commands":
+            docstrings.discard(id(tree.body[0].value) if tree.body and isinstance(
+                tree.body[0], ast.Expr) else None)  # a command's docstring is its --help
+        found += [f"{path.relative_to(root)}:{node.lineno}" for node in ast.walk(tree)
+                  if isinstance(node, ast.Constant) and isinstance(node.value, str)
+                  and id(node) not in docstrings and pattern.search(node.value)]
+    for path in sorted((root / "data" / "scenes").rglob("*.yaml")):
+        found += [f"{path.relative_to(root)}:{i}" for i, line in
+                  enumerate(path.read_text().splitlines(), start=1) if pattern.search(line)]
+    assert not found, found
