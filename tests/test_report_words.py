@@ -182,3 +182,21 @@ def test_no_issue_number_in_what_the_reports_and_commands_print():
         found += [f"{path.relative_to(root)}:{i}" for i, line in
                   enumerate(path.read_text().splitlines(), start=1) if pattern.search(line)]
     assert not found, found
+
+
+# -- 7: the paper's drive locks the driven axle, not "the front" --------------------------------
+
+def test_the_paper_s_drive_is_said_to_lock_the_driven_axle(capsys):
+    """drake-car-paper --help and docs/studies.md said "a locked front axle"; on a rear-drive
+    car the report (rightly) says rear."""
+    from pathlib import Path
+    from drake_car.commands import paper
+    with pytest.raises(SystemExit):
+        paper.main(["--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert "locked front axle" not in help_text
+    assert "a locked driven axle" in help_text
+    docs = " ".join((Path(__file__).parents[1] / "docs" / "studies.md").read_text().split())
+    assert "paper's own drive (a locked front axle)" not in docs
+    assert "the paper's own drive (the driven wheels' rotation prescribed: a locked driven " \
+        "axle, the front on the Escort)" in docs

@@ -12,8 +12,8 @@ from drake_car.study.paper.report_format import (
 
 
 def paper_drive(s):
-    """The verdicts with the paper's own drive (its front wheels' rotation prescribed: a
-    locked front axle) beside the car's own drive."""
+    """The verdicts with the paper's own drive (its driven wheels' rotation prescribed: a
+    locked driven axle) beside the car's own drive."""
     locked = s.get("paper_drive")
     if not locked:
         return []
