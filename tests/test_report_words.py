@@ -200,3 +200,33 @@ def test_the_paper_s_drive_is_said_to_lock_the_driven_axle(capsys):
     assert "paper's own drive (a locked front axle)" not in docs
     assert "the paper's own drive (the driven wheels' rotation prescribed: a locked driven " \
         "axle, the front on the Escort)" in docs
+
+
+# -- 8: the heading judged where the friction cannot move it ------------------------------------
+
+def test_a_dry_run_s_heading_is_the_friction_s_effect_not_an_off_manoeuvre():
+    """paper_nv3500: a_3 and b_3 (μs 0.4) end the lane change 0.12 deg off parallel with the
+    rack input of every other run: the friction's effect, not "not the paper's manoeuvre"; the
+    same heading on the frictionless a_1 is still off."""
+    import types
+    from conftest import paper_scene
+    from drake_car.study.paper.manoeuvre import (
+        manoeuvre_flag, manoeuvre_section, manoeuvre_summary)
+    from test_manoeuvre_adapts import history
+
+    def runs(heading_a_1, heading_a_3):
+        out = {}
+        for name, heading in (("a_1", heading_a_1), ("a_3", heading_a_3)):
+            scene = paper_scene(name)
+            out[name] = types.SimpleNamespace(scene=scene, history=history(
+                scene.manoeuvre.timeline, heading_deg=heading))
+        return {"manoeuvre": manoeuvre_summary(out, None)}
+
+    s = runs(0.0, 0.1196)
+    assert manoeuvre_flag(s) == []
+    text = "\n".join(manoeuvre_section(s))
+    assert "| a_3 | 60.00 | 3.700 | 0.1196 (the friction's effect) |" in text, text
+    assert "judged on the runs without dry strut friction" in text and "a_3 (dry struts)" in text
+    off = runs(0.1196, 0.0)
+    assert "a_1: heading change at its end 0.12 deg" in "\n".join(manoeuvre_flag(off))
+    assert "| a_1 | 60.00 | 3.700 | 0.1196 **OFF** |" in "\n".join(manoeuvre_section(off))
