@@ -230,3 +230,22 @@ def test_a_dry_run_s_heading_is_the_friction_s_effect_not_an_off_manoeuvre():
     off = runs(0.1196, 0.0)
     assert "a_1: heading change at its end 0.12 deg" in "\n".join(manoeuvre_flag(off))
     assert "| a_1 | 60.00 | 3.700 | 0.1196 **OFF** |" in "\n".join(manoeuvre_section(off))
+
+
+@pytest.mark.parametrize("command", ["car_checks", "settle"])
+def test_quiet_shows_no_progress_bar(command, tmp_path, monkeypatch):
+    """--quiet promises "warnings and errors only, no progress bars": the car checks and the
+    settle command ran their simulations with a progress bar regardless."""
+    import importlib
+    module = importlib.import_module(f"drake_car.commands.{command}")
+    asked = []
+
+    def simulate(scene, progress=True, **kwargs):
+        asked.append(progress)
+        raise _Stop
+
+    monkeypatch.setattr(module, "simulate", simulate)
+    for quiet in (["--quiet"], []):
+        with pytest.raises(_Stop):
+            module.main([*quiet, "--out", str(tmp_path / f"out{len(asked)}")])
+    assert asked == [False, True]

@@ -135,7 +135,8 @@ def main(argv=None):
         count = len(scenes) * (1 if args.no_verify else 3) + len(locked)
         with cli.cluster_client(args, count) as client:
             def simulate(batch):
-                return run_scenes(batch, client=client, out_dir=args.runs_dir)
+                return run_scenes(batch, client=client, out_dir=args.runs_dir,
+                                  progress=not args.quiet)
             if args.no_verify:
                 done = simulate(scenes | locked)
                 runs = {name: done[name] for name in scenes}
