@@ -107,11 +107,9 @@ def manoeuvre_section(s):
              f"The drive allows {la['drive_accel_mps2']:.2f} m/s² (its torque limit"
              + (f" {drive_limit_words(la['drive_limit'])}," if "drive_limit" in la else "")
              + " through the car's rolling radius and mass with the wheels' spin inertia), "
-             f"the car's "
-             f"{la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² (90 % [EST] of "
-             f"what their peak μ {la['peak_mu']:.2f} gives" + _grip_load(la) + "): it is "
-             "limited by "
-             f"{la['limited_by']}, its shortest "
+             f"the car's {la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² "
+             f"(90 % [EST] of what their peak μ {la['peak_mu']:.2f} gives" + _grip_load(la)
+             + f"): it is limited by {la['limited_by']}, its shortest "
              f"launch {la['shortest_launch_s']:g} s, its speed controller's lag "
              f"{la['lag_s']:.2f} s" + (". It follows the profile" if follows else
                                        ". It falls behind the profile and catches up")
