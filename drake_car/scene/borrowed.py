@@ -12,8 +12,10 @@ with its source so that no report calls the shipped car's value "this car's":
 
 Every report that states the drive's limit or describes the tyres gives these facts (the value
 that ran, where it came from, how to set one's own). Where the scene is loaded (``scene.load.
-check_scene``), ``say_borrowed`` warns on stderr, once per process and value: a car file run with
-the default drive torque, and a tyre file with relaxation data of its own that is not used."""
+check_scene``), ``say_borrowed`` warns on stderr, once per process and value, where the value
+runs: a car file run with the default drive torque in a scene that launches, and a tyre file
+with relaxation data of its own that is not used; not where only the scene's car is used (the
+strut rig, the kinematics: ``load_scene(..., runs=False)``)."""
 
 import logging
 

@@ -97,10 +97,14 @@ class LaunchLimits:
     controller_mass_kg: float  # m_c = m + 4 I_w / R²
     drive_accel_mps2: float  # inf: no torque limit (the paper's prescribed rotation)
     driven_load_N: float  # the driven axle's during the launch (static and the transfer)
-    peak_mu: float  # the tyre's, at that load per wheel (inf: a tyre that does not saturate)
+    peak_mu: float  # the tyre's at grip_load_N per wheel (inf: a tyre that does not saturate)
     traction_accel_mps2: float
     lag_s: float  # the speed controller's τ
     rolling_resistance_N: float
+    # the driven axle's load at the grip's limit (static and the transfer at
+    # traction_accel_mps2), where peak_mu and the grip are evaluated; the static load without
+    # a saturating tyre
+    grip_load_N: float
 
     @property
     def max_accel_mps2(self):
@@ -178,12 +182,13 @@ def launch_limits(scene) -> LaunchLimits:
     static, transfer = _axle_load(car, axle)
     stiffness, unloaded = car.tyre.radial_stiffness_Npm, car.tyre.unloaded_radius_m
     tyre = _tyre(scene)
+    grip_load = static
     if tyre is None:
         accel, mu = math.inf, math.inf
     else:
         accel = 0.0
         for _ in range(30):  # the load transfer and μ(Fz) as a fixed point
-            load = max(static + transfer * accel, 1.0)
+            load = grip_load = max(static + transfer * accel, 1.0)
             mu = peak_mu(tyre, load / 2)
             loaded = unloaded - load / 2 / stiffness
             new = TRACTION_MARGIN * mu * load * loaded / (controller_mass * radius)
@@ -196,7 +201,7 @@ def launch_limits(scene) -> LaunchLimits:
         controller_mass * radius / drive.speed_gain_Nm_per_mps
     return LaunchLimits(axle, *(float(x) for x in (
         radius, unloaded - load / 2 / stiffness, controller_mass, drive_accel, load, mu, accel,
-        lag, qsy1 * mass * GRAVITY_MPS2)))
+        lag, qsy1 * mass * GRAVITY_MPS2, grip_load)))
 
 
 def predicted_speed(scene, timeline, limits: LaunchLimits = None, until_s=None):
@@ -319,7 +324,7 @@ def launch_description(scene):
             "traction_accel_mps2": limits.traction_accel_mps2,
             "max_accel_mps2": limits.max_accel_mps2, "limited_by": limits.limited_by,
             "lag_s": limits.lag_s, "peak_mu": limits.peak_mu, "driven_axle": limits.driven_axle,
-            "driven_load_N": limits.driven_load_N,
+            "driven_load_N": limits.driven_load_N, "grip_load_N": limits.grip_load_N,
             "shortest_launch_s": limits.shortest_launch_s(timeline.speed_mps),
             "predicted_speed_at_place_a_kph": predicted_speed_at_place_a_kph(scene, timeline,
                                                                              limits),

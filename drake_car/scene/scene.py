@@ -16,7 +16,7 @@ Sections, each a loadable dataclass with a ``check()`` that names a bad key:
   ``!StepSteer`` (``scene.manoeuvres``), ``!DoubleLaneChange``, ``!ConstantRadius``
   (``scene.paths``: defined by a path);
 - ``drive``: ``!OpenDifferential`` (default: one torque split equally) or
-  ``!PrescribedRotation`` (the paper's: both front wheels' rotation prescribed), on the car's
+  ``!PrescribedRotation`` (the paper's: both driven wheels' rotation prescribed), on the car's
   ``driven_axle``;
 - ``steering``: ``!HeldRack`` (default: the rack follows the command), ``!HandsOff`` or
   ``!PathFollower`` (a driver follows a path manoeuvre's path);
@@ -130,8 +130,9 @@ Tyres = typing.Union[MagicFormula, LinearTyre, VerticalOnly]
 
 @dataclasses.dataclass
 class PrescribedRotation:
-    """The paper's drive (section 4): both front wheels' rotation prescribed by stiff servos
-    (a locked front axle; a rear-drive car's ``car.driven_axle``: the rear wheels'). ``reaction``:
+    """The paper's drive (section 4): both driven wheels' rotation prescribed by stiff servos
+    (a locked driven axle: the front on the Escort, the rear on a rear-drive car's
+    ``car.driven_axle``). ``reaction``:
     driveshaft (the torque is reacted by the body, as in a car) or knuckle (reacted at the wheel
     joint's carrier, as a joint motion in Adams)."""
 
@@ -181,7 +182,8 @@ class OpenDifferential:
 
 
 # The default (first) is the physical one: a front-drive car has an open differential. The
-# paper's prescribed rotation locks the front axle (about 3 deg/g of understeer on this car).
+# paper's prescribed rotation locks the driven axle (on the Escort the front: about 3 deg/g of
+# understeer).
 Drive = typing.Union[OpenDifferential, PrescribedRotation]
 
 
