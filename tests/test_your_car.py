@@ -223,7 +223,35 @@ def test_the_design_study_keeps_the_shipped_car_s_manoeuvre_and_a_rack_the_user_
         "manoeuvre: !LaneChange {amplitude_m: 0.007, second_lobe: 1.0}"))
     study, words = base_car.adapted_base(given, stated={"speed_up_s", "amplitude_m",
                                                         "second_lobe"})
-    assert words == [] and study.base.manoeuvre == given.base.manoeuvre  # run as given
+    assert study.base.manoeuvre == given.base.manoeuvre  # run as given
+    # Said: the severity's range follows the stated rack (tests/test_design_severity.py).
+    assert len(words) == 1 and words[0].startswith("the severity range")
+
+
+def test_the_report_states_the_severity_range_of_the_user_s_rack(engineer, tmp_path):
+    # A newcomer's report gave their car's 9.08 mm rack "(outside the range)" of 3 ... 9 mm and
+    # said the range was half to one and a half times the lane change: true of the Escort only.
+    from drake_car.study.design import base_car
+    given = load_study(DESIGN, "study", scene=(engineer, "car"), scene_text=(
+        "manoeuvre: !LaneChange {amplitude_m: 0.0084, second_lobe: 1.0}"))
+    study, words = base_car.adapted_base(given, stated={"speed_up_s", "amplitude_m"})
+    quick, changes = smoke.quick(study)
+    parts = {"map": design_runs.map_scenes(quick), "sobol": design_runs.sobol_scenes(quick),
+             "mc": design_runs.monte_carlo_scenes(quick)}
+    rows = jam_cases.apply(_rows(quick, parts), None, {"split_change_rel": 0.001})
+    s = design_analysis.analyse(quick, rows, tmp_path, {"reused": 0, "wall_s": 1.0}, 1.0,
+                                {"split_change_rel": 0.001}, None, smoke=changes,
+                                adapted=words)
+    s |= {"provenance": {"command": "test", "git_commit": None, "created_utc": "now"},
+          "scene": f"{engineer}:car", "study_file": str(DESIGN)}
+    text = design_report.report(s)
+    row = [r for r in text.split("## Factors and ranges")[1].splitlines()
+           if "`manoeuvre.amplitude_m`" in r][0]
+    low, high = 0.003 * 0.0084 / 0.005908525382359731, 0.009 * 0.0084 / 0.005908525382359731
+    assert f"| {low:g} ... {high:g} | 0.0084 |" in row and "outside" not in row
+    assert "4.27 ... 12.80 mm on this car: 0.51 ... 1.52 times the rack amplitude its scene " \
+        "gives (8.40 mm)" in row
+    assert "4.27 ... 12.80 mm: 0.51 ... 1.52 times this one" in text.split("## How it was")[1]
 
 
 def test_the_paper_s_car_column_gives_the_paper_s_car_not_the_user_s(engineer):

@@ -178,7 +178,8 @@ def main(argv=None):
                 continue
             chosen = {scene.name: scene for key, scene in cases.items() if key[1] == scheme}
             if chosen:
-                results.update(run_scenes(chosen, out_dir=runs_dir / scheme, client=client))
+                results.update(run_scenes(chosen, out_dir=runs_dir / scheme, client=client,
+                                          progress=not args.quiet))
     if args.schemes != "fast,reference":
         print(f"ran {len(results)} runs into {runs_dir}; the analysis needs both schemes")
         return

@@ -49,7 +49,7 @@ def main(argv=None):
     jammed = dataclasses.replace(jammed, visualization=MeshcatReplay(camera="follow"))
     began = time.perf_counter()
     with output_folder(args.out) as out:
-        settled = simulate(lubricated, progress=True)
+        settled = simulate(lubricated, progress=not args.quiet)
         (out / "settle").mkdir()
         write_run(settled, out / "settle")
         write_json(out / "settle" / "settle.json",
@@ -60,7 +60,7 @@ def main(argv=None):
         write_csv(out / "kinematics" / "steering.csv", sweep.steering)
         plot_kinematics(sweep.kinematics, out / "kinematics" / "kinematics.png")
         plot_steering(sweep.steering, out / "kinematics" / "steering.png")
-        stuck = simulate(jammed, progress=True)
+        stuck = simulate(jammed, progress=not args.quiet)
         (out / "jammed").mkdir()
         write_run(stuck, out / "jammed")
         rows = hard_point_rows(lubricated)

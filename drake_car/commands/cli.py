@@ -131,13 +131,14 @@ def parser(doc, *, name=None, prog=None, out=True, out_help="output folder (writ
     return p
 
 
-def scene_from_args(args):
-    """The scene of ``--scene``/``--scene_text`` (the defaults when neither is given)."""
+def scene_from_args(args, runs=True):
+    """The scene of ``--scene``/``--scene_text`` (the defaults when neither is given); ``runs``:
+    ``load_scene``'s (False: only its car is used)."""
     from drake_car.scene.load import load_scene, parse_scene_option
     path = child = None
     if args.scene:
         path, child = parse_scene_option(args.scene)
-    return load_scene(path, child=child, scene_text=args.scene_text or None)
+    return load_scene(path, child=child, scene_text=args.scene_text or None, runs=runs)
 
 
 def positive(name):

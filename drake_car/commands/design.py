@@ -130,7 +130,8 @@ def main(argv=None):
     sweep_dir = args.out / "sweep"
     with cli.cluster_client(args, len(named)) as client:
         sweep = run_sweep({name: scene for name, (scene, _) in named.items()}, sweep_dir,
-                          client=client, rerun_failed=args.rerun_failed)
+                          client=client, rerun_failed=args.rerun_failed,
+                          progress=not args.quiet)
         refined = None
         if jam and not local:
             print(f"accuracy on demand: {len(jam)} runs, at μs >= {study.accuracy.jam_mu_s:g} "
@@ -142,7 +143,8 @@ def main(argv=None):
             refined = jam_cases.refine_jam_cases(
                 study, parts, lambda batch: run_scenes(batch, out_dir=sweep_dir, client=client,
                                                        skip_failed=True,
-                                                       rerun_failed=args.rerun_failed))
+                                                       rerun_failed=args.rerun_failed,
+                                                       progress=not args.quiet))
     rows = design_analysis.table(study, parts, sweep_dir)
     noise = design_tables.noise_levels(rows, exclude=set(jam))
     if local:

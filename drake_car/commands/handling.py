@@ -87,7 +87,7 @@ def main(argv=None):
     with output_folder(args.out) as out:
         try:
             runs, result, walls = handling_study(
-                scenes, args.ay_range, crosscheck_why=why,
+                scenes, args.ay_range, crosscheck_why=why, progress=not args.quiet,
                 shipped_why=("left out (--no_shipped_comparison)"
                              if args.no_shipped_comparison else None))
         except HandlingError as e:

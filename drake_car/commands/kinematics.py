@@ -32,7 +32,7 @@ def main(argv=None):
     if args.travel_m > 0.2:
         p.error("--travel_m must be <= 0.2 m (a strut's whole travel)")
     cli.check_out(args)
-    params = cli.scene_from_args(args).car
+    params = cli.scene_from_args(args, runs=False).car  # the car alone: nothing drives
     with output_folder(args.out) as out:
         sweep = run_kinematics_sweep(params, travel_m=args.travel_m, points=args.points,
                                      model_path=args.model)

@@ -105,8 +105,9 @@ def main(argv=None):
                         "run of each run at its finest step, or of each window's finest "
                         "level on the local route)")
     p.add_argument("--no_paper_drive", action="store_true",
-                   help="skip the comparison with the paper's own drive (both front wheels' "
-                        "rotation prescribed: a locked front axle)")
+                   help="skip the comparison with the paper's own drive (both driven "
+                        "wheels' rotation prescribed: a locked driven axle, the front on the "
+                        "paper's Escort, the rear on a rear-drive car's car.driven_axle)")
     args = p.parse_args(argv)
     cli.check_out(args)
     scenes = load_study_file(args.scene, args.scene_text or None, command=PAPER, holds=(
@@ -134,7 +135,8 @@ def main(argv=None):
         count = len(scenes) * (1 if args.no_verify else 3) + len(locked)
         with cli.cluster_client(args, count) as client:
             def simulate(batch):
-                return run_scenes(batch, client=client, out_dir=args.runs_dir)
+                return run_scenes(batch, client=client, out_dir=args.runs_dir,
+                                  progress=not args.quiet)
             if args.no_verify:
                 done = simulate(scenes | locked)
                 runs = {name: done[name] for name in scenes}

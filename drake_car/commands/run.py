@@ -29,7 +29,7 @@ import sys
 from drake_car.commands import cli
 from drake_car.law.errors import InputError
 from drake_car.scene.load import load_scene, parse_scene_option
-from drake_car.scene.manoeuvre_targets import manoeuvre_failures
+from drake_car.scene.manoeuvre_targets import dry_friction, manoeuvre_failures
 from drake_car.results.files import write_run
 from drake_car.results.folder import output_folder
 from drake_car.results.record import rerun_note
@@ -56,7 +56,7 @@ def main(argv=None):
     with output_folder(args.out) as out:
         run = simulate(scene, progress=not args.quiet)
         write_run(run, out)
-    off = manoeuvre_failures(run.history, run.scene.manoeuvre)
+    off = manoeuvre_failures(run.history, run.scene.manoeuvre, dry_friction(run.scene))
     if off:
         logging.getLogger("drake_car.commands.run").warning(
             "%s does not do what its manoeuvre says: %s", scene.name, "; ".join(off))

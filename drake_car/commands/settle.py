@@ -32,7 +32,7 @@ def main(argv=None):
         raise SceneError(f"--scene: {scene.name!r} is not a !Settle scene (manoeuvre "
                          f"{type(scene.manoeuvre).__name__})")
     with output_folder(args.out) as out:
-        run = simulate(scene, progress=True)
+        run = simulate(scene, progress=not args.quiet)
         write_run(run, out)
         final = run.final
         write_json(out / "settle.json", {k: v for k, v in final.items() if k != "positions"}

@@ -90,7 +90,9 @@ def main(argv=None):
         p.error(f"--{next(n for n in loop_options if getattr(args, n) is not None)} describes "
                 "a --measured loop's test; without --measured the rig study runs its own")
     cli.check_out(args)
-    scene = cli.scene_from_args(args)
+    # the rig uses the scene's car and friction law (the car at rest on vertical tyres): its
+    # drive and tyres never run
+    scene = cli.scene_from_args(args, runs=False)
     car = scene.car
     start, cpu = time.time(), time.process_time()
     if args.measured:

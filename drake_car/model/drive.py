@@ -75,3 +75,10 @@ def differential_speed_gain(plant, car):
         v_index = plant.num_positions() + car.joint(f"wheel_{axle}_{side}_spin").velocity_start()
         row[0, v_index] = 0.5
     return row
+
+
+def explicit_time_step_limit_s(params, gain_Nm_per_radps):
+    """The largest step at which a torque of -K/2 per driven wheel on the differential's
+    mean speed, applied explicitly (the rev limit), is stable: 2 I / K, I a wheel's spin
+    inertia (conservative: the mode in which both wheels turn alike is stable up to 4 I / K)."""
+    return 2.0 * params.mass.wheel_spin_inertia_kgm2 / gain_Nm_per_radps

@@ -33,6 +33,7 @@ import dataclasses
 
 import numpy as np
 
+from drake_car.law.numerics.round_off import cleaned
 from drake_car.model.corners import corner_sprung_mass_kg, ride_frequency_hz
 from drake_car.model.geometry import centre_of_mass, design_axle_loads_N, front_corner_points
 from drake_car.model.hard_points import frame_shift_m, whole_car_inertia_kgm2
@@ -50,8 +51,10 @@ class Row:
     field: str = ""  # the CarParameters value the row shows, when it shows one
 
     def text(self, digits=4):
+        """The values as the report prints them (round-off of zero as 0: ``cleaned``)."""
+        shown = [cleaned(v) for v in self.value]
         return ", ".join(f"{v:.{digits}g}" if abs(v) >= 1e-3 or v == 0 else f"{v:.3e}"
-                         for v in self.value)
+                         for v in shown)
 
 
 POINTS = (("wheel centre", "wheel_centre"), ("lower arm front pivot", "arm_front_pivot"),

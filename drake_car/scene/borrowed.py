@@ -12,8 +12,10 @@ with its source so that no report calls the shipped car's value "this car's":
 
 Every report that states the drive's limit or describes the tyres gives these facts (the value
 that ran, where it came from, how to set one's own). Where the scene is loaded (``scene.load.
-check_scene``), ``say_borrowed`` warns on stderr, once per process and value: a car file run with
-the default drive torque, and a tyre file with relaxation data of its own that is not used."""
+check_scene``), ``say_borrowed`` warns on stderr, once per process and value, where the value
+runs: a car file run with the default drive torque in a scene that launches, and a tyre file
+with relaxation data of its own that is not used; not where only the scene's car is used (the
+strut rig, the kinematics: ``load_scene(..., runs=False)``)."""
 
 import logging
 
@@ -39,9 +41,11 @@ def drive_limit(scene):
     drive = scene.drive
     if not isinstance(drive, OpenDifferential):
         return None
+    from drake_car.scene.launch import drive_torque_limit_Nm  # it states this limit itself
     shipped = drive.max_wheel_torque_Nm == OpenDifferential().max_wheel_torque_Nm
     return {"max_wheel_torque_Nm": drive.max_wheel_torque_Nm,
-            "source": "shipped" if shipped else "scene"}
+            "source": "shipped" if shipped else "scene",
+            "runs_Nm": drive_torque_limit_Nm(scene)}
 
 
 def drive_limit_words(limit):
@@ -50,10 +54,17 @@ def drive_limit_words(limit):
         return "no torque limit (the paper's prescribed rotation: stiff servos)"
     text = f"{limit['max_wheel_torque_Nm']:g} N m at the driven wheels"
     if limit["source"] == "scene":
-        return text + " (the scene's `drive.max_wheel_torque_Nm`)"
-    return (text + " (`drive.max_wheel_torque_Nm`'s default: the shipped Escort's estimate [EST], "
-            "its 1.9 l engine's ~150 N m through first gear and final drive; another car's: "
-            f"{SET_DRIVE})")
+        text += " (the scene's `drive.max_wheel_torque_Nm`)"
+    else:
+        text += (" (`drive.max_wheel_torque_Nm`'s default: the shipped Escort's estimate [EST], "
+                 "its 1.9 l engine's ~150 N m through first gear and final drive; another "
+                 f"car's: {SET_DRIVE})")
+    runs = limit.get("runs_Nm", limit["max_wheel_torque_Nm"])
+    if runs < limit["max_wheel_torque_Nm"]:
+        text += (f", clamped to {runs:.0f} N m: what the driven tyres transmit in the launch "
+                 "(`drive.torque_within_grip`: 0.9 of their peak grip; a clamp above it spins "
+                 "the wheels past the peak)")
+    return text
 
 
 def relaxation(scene):

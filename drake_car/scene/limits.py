@@ -35,10 +35,12 @@ from drake_car.law.tyre.magic_formula import magic_formula, relaxation_lengths_m
 from drake_car.law.tyre.plausibility import combined_slip_said
 from drake_car.law.tyre.slip import explicit_time_step_limit_s as tyre_time_step_limit_s
 from drake_car.model.anti_roll_bar import time_step_limit_s as bar_time_step_limit_s
+from drake_car.model.drive import explicit_time_step_limit_s as drive_time_step_limit_s
 from drake_car.model.loading import read_tyre
 from drake_car.model.parameters import GRAVITY_MPS2
 from drake_car.model.struts import reference_time_step_limit_s
-from drake_car.scene.scene import LinearTyre, MagicFormula, PathFollower, default_plant_config
+from drake_car.scene.scene import (
+    LinearTyre, MagicFormula, OpenDifferential, PathFollower, default_plant_config)
 
 # Plant-config fields that have no effect on this car (it has no collision geometry): they
 # must keep their defaults, so that every value of a scene changes its run.
@@ -93,6 +95,23 @@ def check_limits(scene):
                 "and its normal force at rest); use a smaller step or friction.scheme: fast")
     if isinstance(scene.tyres, (MagicFormula, LinearTyre)):
         _check_tyre_file(scene)
+    _check_drive_loops(scene)
+
+
+def _check_drive_loops(scene):
+    """The open differential's rev limit (explicit feedback on the wheels' spin) against the
+    step (``model.drive.explicit_time_step_limit_s``)."""
+    drive, step = scene.drive, scene.time_step_s
+    if not isinstance(drive, OpenDifferential) or not scene.manoeuvre.drives:
+        return
+    gain = drive.governor_gain_Nm_per_radps
+    limit = drive_time_step_limit_s(scene.car, gain)
+    if step > limit:
+        raise ParameterError(
+            "drive.governor_gain_Nm_per_radps", gain,
+            f"makes a wheel-spin loop stable only for steps below {limit:.2g} s (2 I / K, the "
+            f"wheels' spin inertia {scene.car.mass.wheel_spin_inertia_kgm2:g} kg m²); "
+            f"plant.time_step is {step:g} s: lower it, or take a smaller step")
 
 
 def wheel_load_at_rest_N(car):

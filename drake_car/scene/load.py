@@ -49,11 +49,14 @@ def _duration(seconds):
 
 
 def load_scene(path=None, *, child=None, scene_text=None, base=None,
-               text_origin="--scene_text") -> Scene:
+               text_origin="--scene_text", runs=True) -> Scene:
     """A scene from ``path`` (its top-level entry ``child``; a file with one entry needs none),
     with ``scene_text`` laid on top; checked. ``base``: a Scene to start from instead of the
     defaults (the file's values, then the text's, laid over it: a study's base scene under a
-    user's scene file). ``text_origin``: where ``scene_text`` came from, for errors."""
+    user's scene file). ``text_origin``: where ``scene_text`` came from, for errors. ``runs``:
+    False where only the scene's car (and friction law) is used, not the scene as it stands
+    (a rig, the kinematics): its drive and tyres never run, so their borrowed values are not
+    said (``scene.borrowed.say_borrowed``)."""
     scene = Scene() if base is None else base
     where = "scene defaults"
     layers = []  # (where, raw YAML, typed-load arguments)
@@ -95,7 +98,7 @@ def load_scene(path=None, *, child=None, scene_text=None, base=None,
             raise SceneError(f"{named[-1][0]}: {e}") from None
     for where, _, arguments in layers:
         scene = _typed(where, schema=Scene, defaults=scene, **arguments)
-    return check_scene(scene, where)
+    return check_scene(scene, where, runs=runs)
 
 
 def load_scene_file(path, scene_text=None):
@@ -211,7 +214,7 @@ def _check_own_name(raw, where):
                          "names folders and files")
 
 
-def check_scene(scene: Scene, where="scene") -> Scene:
+def check_scene(scene: Scene, where="scene", runs=True) -> Scene:
     """Every section's check, the cross-checks and the limits (``scene.limits``): the one place
     a scene's values are checked; raises SceneError naming the key. The values derived from
     others are set here, so the saved scene shows them: the tyres' vertical data from their
@@ -234,7 +237,8 @@ def check_scene(scene: Scene, where="scene") -> Scene:
     except ParameterError as e:
         raise SceneError(f"{where}: {e}{derived_note(scene, e.key)}") from None
     announce_large_road(scene, where)
-    say_borrowed(scene, where)
+    if runs:  # a borrowed value is said where it runs
+        say_borrowed(scene, where)
     return scene
 
 

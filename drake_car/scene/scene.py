@@ -16,7 +16,7 @@ Sections, each a loadable dataclass with a ``check()`` that names a bad key:
   ``!StepSteer`` (``scene.manoeuvres``), ``!DoubleLaneChange``, ``!ConstantRadius``
   (``scene.paths``: defined by a path);
 - ``drive``: ``!OpenDifferential`` (default: one torque split equally) or
-  ``!PrescribedRotation`` (the paper's: both front wheels' rotation prescribed), on the car's
+  ``!PrescribedRotation`` (the paper's: both driven wheels' rotation prescribed), on the car's
   ``driven_axle``;
 - ``steering``: ``!HeldRack`` (default: the rack follows the command), ``!HandsOff`` or
   ``!PathFollower`` (a driver follows a path manoeuvre's path);
@@ -130,8 +130,9 @@ Tyres = typing.Union[MagicFormula, LinearTyre, VerticalOnly]
 
 @dataclasses.dataclass
 class PrescribedRotation:
-    """The paper's drive (section 4): both front wheels' rotation prescribed by stiff servos
-    (a locked front axle; a rear-drive car's ``car.driven_axle``: the rear wheels'). ``reaction``:
+    """The paper's drive (section 4): both driven wheels' rotation prescribed by stiff servos
+    (a locked driven axle: the front on the Escort, the rear on a rear-drive car's
+    ``car.driven_axle``). ``reaction``:
     driveshaft (the torque is reacted by the body, as in a car) or knuckle (reacted at the wheel
     joint's carrier, as a joint motion in Adams)."""
 
@@ -162,6 +163,15 @@ class OpenDifferential:
     # which would otherwise spin up without bound). Explicit: stable for dt < 2 I / K (12 ms).
     rev_limit_ratio: float = 1.3
     governor_gain_Nm_per_radps: float = 100.0
+    # The clamp no more than the driven tyres transmit in the launch (``scene.launch.
+    # drive_torque_limit_Nm``: 0.9 of their peak grip at the launch's axle load, what the
+    # launch is planned for), as a driver's foot or a traction control holds a launch at the
+    # tyres' grip [EST]. Without it a speed controller that lags asks its whole clamp and, on a
+    # tyre whose grip falls past its peak, spins the wheels up without bound (a 1500 kg
+    # rear-drive car with 3500 N m on Chrono's Generic_Pac02Tire: κ 16, 39 instead of 60 km/h
+    # at place a; with it κ <= 0.073, 59.4 km/h). A car whose drive is below its tyres' grip
+    # (the shipped Escort: 1740 < 1952 N m) runs as without it.
+    torque_within_grip: bool = True
 
     def check(self):
         positive(self, "speed_gain_Nm_per_mps", "max_wheel_torque_Nm",
@@ -172,7 +182,8 @@ class OpenDifferential:
 
 
 # The default (first) is the physical one: a front-drive car has an open differential. The
-# paper's prescribed rotation locks the front axle (about 3 deg/g of understeer on this car).
+# paper's prescribed rotation locks the driven axle (on the Escort the front: about 3 deg/g of
+# understeer).
 Drive = typing.Union[OpenDifferential, PrescribedRotation]
 
 

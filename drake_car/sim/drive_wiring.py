@@ -9,6 +9,7 @@ from pydrake.systems.primitives import (
 from drake_car.model.drive import (
     differential_speed_gain, driven_axle, driven_wheel_carriers, open_differential_gain,
     rolling_radius)
+from drake_car.scene.launch import drive_torque_limit_Nm
 from drake_car.scene.manoeuvres import speed_trajectory, wheel_rotation_trajectory
 from drake_car.scene.scene import OpenDifferential, PrescribedRotation
 from drake_car.systems.driveshaft import Driveshafts
@@ -50,7 +51,7 @@ def add_drive(builder, plant, car, scene, wiring):
         gain = builder.AddSystem(MatrixGain(open_differential_gain(
             plant, car, speed_gain_Nm_per_mps=drive.speed_gain_Nm_per_mps)))
         gain.set_name("open_differential")
-        limit = 0.5 * drive.max_wheel_torque_Nm
+        limit = 0.5 * drive_torque_limit_Nm(scene)
         clamp = builder.AddSystem(Saturation(np.full(2, -limit), np.full(2, limit)))
         clamp.set_name("drive_torque_limit")
         builder.Connect(stack.get_output_port(0), gain.get_input_port())

@@ -47,6 +47,7 @@ from drake_car.model.kinematics import SuspensionKinematics
 from drake_car.model.channels import CAR_CHANNELS
 from drake_car.scene.raw import SceneError
 from drake_car.scene.scene import OpenDifferential, PathFollower
+from drake_car.scene.launch import drive_torque_limit_Nm
 from drake_car.sim.drive_wiring import add_governor
 from drake_car.systems.path_driver import (
     PathDriver, SpeedLaw, SteeringLaw, preview_gain_rad_per_m, speed_gains)
@@ -139,7 +140,7 @@ def drive_torque_input(builder, plant, car, scene, wiring):
                          f"!{type(drive).__name__}")
     split = builder.AddSystem(MatrixGain(np.full((2, 1), 0.5)))
     split.set_name("open_differential")
-    limit = 0.5 * drive.max_wheel_torque_Nm
+    limit = 0.5 * drive_torque_limit_Nm(scene)
     clamp = builder.AddSystem(Saturation(np.full(2, -limit), np.full(2, limit)))
     clamp.set_name("drive_torque_limit")
     builder.Connect(split.get_output_port(), clamp.get_input_port())

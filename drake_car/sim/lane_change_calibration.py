@@ -38,7 +38,8 @@ import numpy as np
 from drake_car.law.errors import RunFailed
 from drake_car.model.parameters import FrontSuspensionParameters
 from drake_car.scene.launch import resolve_launch
-from drake_car.scene.manoeuvre_targets import lane_change_metrics
+from drake_car.scene.manoeuvre_targets import (
+    SPEED_TOLERANCE_KPH, lane_change_metrics, speed_at_place_a_mps)
 from drake_car.scene.manoeuvres import LaneChange, Timeline
 from drake_car.scene.scene import (
     HeldRack, Logging, NoVisualization, Simulator, default_plant_config)
@@ -76,7 +77,11 @@ def measure(calibrating, amplitude_m, second_lobe, *, run):
     manoeuvre = dataclasses.replace(calibrating.manoeuvre, amplitude_m=float(amplitude_m),
                                     second_lobe=float(second_lobe))
     history = run(dataclasses.replace(calibrating, manoeuvre=manoeuvre)).history
-    return lane_change_metrics(history, manoeuvre.timeline)
+    metrics = lane_change_metrics(history, manoeuvre.timeline)
+    speed = speed_at_place_a_mps(history, manoeuvre.timeline)
+    if metrics is not None and speed is not None:
+        metrics["speed_at_place_a_kph"] = 3.6 * speed
+    return metrics
 
 
 def calibrate(calibrating, *, run, start=None):
@@ -128,8 +133,28 @@ def calibrate(calibrating, *, run, start=None):
         x = np.array([min(max(x[0], 1e-4), MAX_AMPLITUDE_M), min(max(x[1], LOBE_RANGE[0]),
                                                                   LOBE_RANGE[1])])
     raise RunFailed(f"{calibrating.name}: the lane change's rack did not calibrate in "
-                    f"{len(iterations)} iterations (the last: {iterations[-1]}); give the lane "
-                    "change's amplitude_m and second_lobe, or a manoeuvre this car can do")
+                    f"{len(iterations)} iterations: {_last_words(iterations[-1], calibrating)}; "
+                    "give the lane change's amplitude_m and second_lobe, or a manoeuvre this "
+                    "car can do")
+
+
+def _last_words(last, calibrating):
+    """What the last calibration run did, in words: the shift and heading change it made and
+    the speed it made them at, against what was asked."""
+    timeline = calibrating.manoeuvre.timeline
+    text = (f"the last run (amplitude {1e3 * last['amplitude_m']:.2f} mm, second lobe "
+            f"{last['second_lobe']:.3f}) moved the car {last['shift_m']:.2f} m sideways (asked "
+            f"{calibrating.manoeuvre.shift_m:g} m) and turned it by "
+            f"{last['heading_change_deg']:+.2f} deg (asked 0)")
+    speed = last.get("speed_at_place_a_kph")
+    if speed is None:
+        return text
+    text += f", at {speed:.1f} km/h at place a (asked {timeline.speed_kph:g} km/h)"
+    if abs(speed - timeline.speed_kph) > SPEED_TOLERANCE_KPH:
+        text += (": the car did not reach its speed, so the lane change is another manoeuvre; "
+                 "check its drive (drive.max_wheel_torque_Nm, drive.torque_within_grip) and "
+                 "launch (manoeuvre.timeline.speed_up_s)")
+    return text
 
 
 def adapted(scene, *, run):

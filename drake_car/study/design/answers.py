@@ -326,6 +326,17 @@ def _rack_words(study, adapted=(), shipped_rack=None, smoke=False):
             "for this one: its lane change need not be the paper's 3.7 m")
 
 
+def _severity_words(study):
+    """The severity factor's range (the rack amplitude it sets) in mm and in the base's."""
+    m = study.base.manoeuvre
+    for f in study.factors:
+        if f.key == "manoeuvre.amplitude_m" and m.amplitude_m:
+            return (f"; the runs that vary the severity set the amplitude itself, "
+                    f"{1e3 * f.low:.2f} ... {1e3 * f.high:.2f} mm: {f.low / m.amplitude_m:.2f} "
+                    f"... {f.high / m.amplitude_m:.2f} times this one")
+    return ""
+
+
 def method(study, adapted=(), shipped_rack=None, smoke=False):
     """How the study was made (the base scene's manoeuvre, equilibrium, step); ``adapted``:
     what was adapted to the user's car (``study.design.base_car``), ``shipped_rack`` the
@@ -335,7 +346,8 @@ def method(study, adapted=(), shipped_rack=None, smoke=False):
     where = "" if shipped else " with the shipped car (not measured on this car)"
     return [
         f"Every run: the lane change of the base scene ({t.steer_s:g} s at {t.speed_kph:g} "
-        f"km/h, {_rack_words(study, adapted, shipped_rack, smoke)}, scaled by the severity factor) from static equilibrium, "
+        f"km/h, {_rack_words(study, adapted, shipped_rack, smoke)}{_severity_words(study)}) "
+        "from static equilibrium, "
         f"with rest {t.settle_s:g} s, speed-up {t.speed_up_s:g} s, straight {t.straight_s:g} s "
         f"and {t.calm_s:g} s after the manoeuvre (the paper's: 0.8, 3.0, 1.2 and 2.6 s; the car "
         "starts at rest in static equilibrium, so the rest needs no length of its own). "

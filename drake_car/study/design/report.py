@@ -6,6 +6,7 @@ user's change (``--compare``), the accuracy. A smoke test (``--quick``) says so 
 
 import math
 
+from drake_car.law.numerics.round_off import cleaned
 from drake_car.study.car.describe import car_lines
 from drake_car.study.design.answers import line_values
 from drake_car.study.design.compare import compare_lines
@@ -78,12 +79,7 @@ def report(s, figures=""):
     paper = "" if s.get("paper_car") else " | the paper's car"
     lines += ["## Factors and ranges", "", f"| factor | range | this car{paper} | why |",
               "|---|---|---|---|" + ("" if s.get("paper_car") else "---|")]
-    for f in s["factors"]:
-        theirs = ("" if s.get("paper_car") else " - |" if math.isnan(f["paper"])
-                  else f" {f['paper']:g} |")
-        outside = "" if f["low"] <= f["car"] <= f["high"] else " (outside the range)"
-        lines.append(f"| {f['label']} (`{f['key']}`) | {f['low']:g} ... {f['high']:g} | "
-                     f"{f['car']:g}{outside} |{theirs} {f['reason']} |")
+    lines += [factor_row(f, s.get("paper_car")) for f in s["factors"]]
     lines += ["", "## Maps", ""]
     for m in s["maps"]:
         lines.append(f"- `{figures}{m['figure']}`: {m['caption']}")
@@ -168,6 +164,17 @@ def _manoeuvre_lines(m):
             f"{slow['name']} at {slow['speed_a_kph']:.1f} km/h): the car did not follow their "
             "launch, and their lane change ran at the speed they reached; their outcomes are of "
             "that speed (`table.csv`: `speed_a_kph`).", ""]
+
+
+def factor_row(f, paper_car):
+    """A factor's row of the report's table: its range, this car's value (and the paper's car's
+    beside it unless this car is the paper's), round-off of 0 printed as 0 (``cleaned``)."""
+    span = f["high"] - f["low"]
+    theirs = ("" if paper_car else " - |" if math.isnan(f["paper"])
+              else f" {cleaned(f['paper'], span):g} |")
+    outside = "" if f["low"] <= f["car"] <= f["high"] else " (outside the range)"
+    return (f"| {f['label']} (`{f['key']}`) | {f['low']:g} ... {f['high']:g} | "
+            f"{cleaned(f['car'], span):g}{outside} |{theirs} {f['reason']} |")
 
 
 def factor_rows(study):

@@ -137,6 +137,10 @@ class DesignStudy:
     # drift of ~0.2 m in 50 m).
     pull_threshold_deg: float = 0.5
     accuracy: Accuracy = dataclasses.field(default_factory=Accuracy)
+    # The calibrated rack amplitude the spec's manoeuvre.amplitude_m values (its factor's range,
+    # its lines) are stated for: on another car they are scaled by that car's own rack over this
+    # (study.design.base_car.severity_scaled). None: run as given, in metres on every car.
+    rack_reference_m: typing.Optional[float] = None
 
 
 def load_study(path, child=None, scene_text=None, scene=None) -> DesignStudy:
@@ -167,11 +171,15 @@ def load_study(path, child=None, scene_text=None, scene=None) -> DesignStudy:
                          "manoeuvre, or --scene_text \"{car_file: FILE, tyres: ...}\") or a "
                          "!LaneChange")
     try:
-        _check_values(study)
+        check_values(study)
     except SceneError as e:
         raise SceneError(f"{path}: {e}") from None
     _check_rough_road(study, path)
     _check_accuracy(study.accuracy, path, study.base.plant.time_step)
+    ref = study.rack_reference_m
+    if ref is not None and not (math.isfinite(ref) and 0 < ref <= 0.1):
+        raise SceneError(f"{path}: rack_reference_m = {ref} must be a rack amplitude in (0, "
+                         "0.1] m (or left out: the amplitudes run as given)")
     return study
 
 
@@ -196,7 +204,7 @@ def _check_accuracy(a: Accuracy, path, step_s):
                          "left out: no budget)")
 
 
-def _check_values(study):
+def check_values(study):
     """Every factor's ends, every line's values, the mitigations' μs and scenes make valid
     scenes."""
     for factor in study.factors:

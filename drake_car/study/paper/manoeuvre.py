@@ -12,7 +12,8 @@ import numpy as np
 
 from drake_car.scene.borrowed import drive_limit_words
 from drake_car.scene.launch import launch_description
-from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH, manoeuvre_measures
+from drake_car.scene.manoeuvre_targets import (
+    SPEED_TOLERANCE_KPH, dry_friction, manoeuvre_measures)
 from drake_car.scene.manoeuvres import PAPER_SHIFT_M, PAPER_SPEED_UP_S
 from drake_car.sim.lane_change_calibration import adapted
 
@@ -46,8 +47,9 @@ def manoeuvre_summary(runs: dict, calibration):
     first = next(iter(runs.values()))
     checks, off = {}, {}
     for name, r in runs.items():
-        measures = manoeuvre_measures(r.history, r.scene.manoeuvre)
-        checks[name] = [dataclasses.asdict(m) | {"ok": m.ok} for m in measures]
+        measures = manoeuvre_measures(r.history, r.scene.manoeuvre, dry_friction(r.scene))
+        checks[name] = [dataclasses.asdict(m) | {"ok": m.ok, "within": m.within}
+                        for m in measures]
         bad = [m.describe() for m in measures if not m.ok]
         if bad:
             off[name] = bad
@@ -105,10 +107,9 @@ def manoeuvre_section(s):
              f"The drive allows {la['drive_accel_mps2']:.2f} m/s² (its torque limit"
              + (f" {drive_limit_words(la['drive_limit'])}," if "drive_limit" in la else "")
              + " through the car's rolling radius and mass with the wheels' spin inertia), "
-             f"the car's "
-             f"{la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² (peak μ "
-             f"{la['peak_mu']:.2f} at the driven axle's {la['driven_load_N']:.0f} N during the "
-             f"launch, 90 % of it [EST]): it is limited by {la['limited_by']}, its shortest "
+             f"the car's {la['driven_axle']} tyres' grip {la['traction_accel_mps2']:.2f} m/s² "
+             f"(90 % [EST] of what their peak μ {la['peak_mu']:.2f} gives" + _grip_load(la)
+             + f"): it is limited by {la['limited_by']}, its shortest "
              f"launch {la['shortest_launch_s']:g} s, its speed controller's lag "
              f"{la['lag_s']:.2f} s" + (". It follows the profile" if follows else
                                        ". It falls behind the profile and catches up")
@@ -148,8 +149,17 @@ def manoeuvre_section(s):
                                             for m in first) + " |")
     for name in names:
         cells = [("-" if m["value"] is None else _number(m["value"], m["unit"]))
-                 + ("" if m["ok"] else " **OFF**") for m in man["checks"][name]]
+                 + ("" if m["ok"] else " **OFF**")
+                 + (" (the friction's effect)" if m["ok"] and not m.get("within", True) else "")
+                 for m in man["checks"][name]]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    dry = sorted(n for n in names if any(m.get("friction_effect") for m in man["checks"][n]))
+    if dry:
+        lines += ["", f"The lateral shift and the heading are judged on the runs without dry "
+                  f"strut friction: every run gets the same rack input, and in {', '.join(dry)} "
+                  "(dry struts) the path it makes is moved by the friction the study measures; "
+                  "beyond the tolerance there it is marked as the friction's effect, not as a "
+                  "manoeuvre that is off."]
     return lines + [""]
 
 
@@ -157,3 +167,16 @@ def _number(value, unit):
     """``value`` to the digits its check needs; no "-0.0000"."""
     shown = f"{value:.{ {'km/h': 2, 'm': 3}.get(unit, 4)}f}"
     return shown.lstrip("-") if float(shown) == 0 else shown
+
+
+def _grip_load(la):
+    """The load the peak μ and the grip were evaluated at: the driven axle's at the grip's
+    limit, with its load transfer (not its load during this launch, where the drive limits it);
+    a summary made before it was recorded says none."""
+    grip = la.get("grip_load_N")
+    if grip is None:
+        return ""
+    during = la["driven_load_N"]
+    return (f" at the driven axle's {grip:.0f} N, its load with the transfer at that "
+            "acceleration" + (f"; {during:.0f} N during this launch" if abs(grip - during) >= 1
+                              else ""))

@@ -4,14 +4,16 @@ drive, the rods at the places and the lasting split (in N, in % of the corner lo
 steering-wheel torque the driver holds), the runs and the files. Every sentence about the car or
 its drive comes from the summary, which the scenes that ran made."""
 
+import math
+
 from drake_car.study.paper.report_format import (
     by_step, error_text, flip, links, quantity, signed, table_row, threshold_text,
     verdict_text)
 
 
 def paper_drive(s):
-    """The verdicts with the paper's own drive (its front wheels' rotation prescribed: a
-    locked front axle) beside the car's own drive."""
+    """The verdicts with the paper's own drive (its driven wheels' rotation prescribed: a
+    locked driven axle) beside the car's own drive."""
     locked = s.get("paper_drive")
     if not locked:
         return []
@@ -91,42 +93,88 @@ def _measure(rows, outcome):
     return next(r for r in rows if r["outcomes"] == [outcome])
 
 
+def _set_holds(number, friction, normal, steady, peak, stuck=False):
+    """What static friction does to one set's rod in the speed-up: μs·N at rest against the
+    load the speed-up takes off each front wheel (steady and at its peak); ``stuck``: the rod
+    was measured not to move as the acceleration ended."""
+    mu_s = friction["mu_s"]
+    if not mu_s:
+        return f"set {number} has no dry friction (μs = 0): nothing holds its rod"
+    hold = mu_s * normal
+    holds = f"set {number} holds μs·N = {mu_s:g} × {normal:.0f} = {hold:.0f} N"
+    then = " and then stuck" if stuck else ""
+    if hold >= peak:
+        return (f"{holds}, more than the peak {peak:.0f} N: its rod never breaks free"
+                + (", so it cannot return" if stuck else ""))
+    if hold >= steady:
+        return (f"{holds}, less than the peak {peak:.0f} N: its rod broke free as the "
+                f"acceleration set in{then}")
+    return (f"{holds}, less than the {steady:.0f} N the speed-up takes off each front wheel: "
+            f"its rod slipped as the car accelerated{then}")
+
+
 def _why_one(s):
+    """Claim 1's why: the part(s) that decide the verdict first (the set whose rod moved
+    against the claim, by how much, and what static friction did to it), then every other set
+    the claim speaks of."""
     rows = s["deciding_numbers"][0]
     hold, peak, steady = (_measure(rows, k)["value"]
                           for k in ("hold_N", "unload_peak_N", "unload_steady_N"))
     high = s["set_roles"]["high"]
-    mu_s = s["friction_sets"][high]["mu_s"]
+    sets = {int(k): v for k, v in s["friction_sets"].items()}
+    mu_s = sets[high]["mu_s"]
     normal = hold / mu_s if mu_s else 0.0
     target = s["timeline_s"]["speed_kph"]
     speeds = [v for name, v in s.get("speed_at_place_a_kph", {}).items()
               if s["runs"][name]["friction_set"] == high]
     still = min(speeds, default=target)
     accelerating = still < target - 1.0
-    verdict = ("both exceed what static friction holds: the rod breaks free as the car "
-               "accelerates" + ("" if accelerating else " and again when the acceleration ends")
-               if steady > hold else
-               "the steady change is within what static friction holds, the peak is not: the "
-               "rod breaks free as the acceleration sets in" if peak > hold else
-               "both are within what static friction holds")
     first = (f"the car was still accelerating when the lane change began ({still:.1f} of "
              f"{target:g} km/h at place a, set {high}): the acceleration had not ended, so no "
              "rod could return after it, and the claim is not judged on the paper's "
              "manoeuvre; " if accelerating else "")
+    moved = [r for r in rows if r["outcomes"] == ["return_m"] and r["decides"]]
+    told, parts = [], []
+    for r in sorted(moved, key=lambda r: r["holds"] is not False):
+        number = s["runs"][r["runs"][0]]["friction_set"]
+        value = quantity(r["value"], r["unit"])
+        stuck = r["relation"] == ">" and not r["holds"]
+        story = _set_holds(number, sets[number], normal, steady, peak, stuck)
+        if r["holds"] is False:
+            parts.append(f"the verdict turns on set {number} ({', '.join(r['runs'])}): its rod "
+                         f"moves {value} as the acceleration ends, where the claim needs "
+                         f"{threshold_text(r)}; {story}")
+        else:
+            parts.append(f"set {number} agrees with the claim ({value}, needs "
+                         f"{threshold_text(r)}): " + story.replace(f"set {number} ", "it ", 1))
+        told.append(number)
+    named = [high] + list(s["set_roles"].get("others", []))
+    parts += [_set_holds(k, sets[k], normal, steady, peak) for k in named if k not in told]
     return (first + f"the strut's normal force at rest is N = {normal:.0f} N (eq. 4, from "
-            "the strut's "
-            f"bending, which the ball-joint offset b and the spring line set), so static "
-            f"friction holds at most μs·N = {hold:.0f} N of axial load; the speed-up unloads "
-            f"each front wheel by {steady:.0f} N steady (at constant acceleration) and by "
-            f"{peak:.0f} N at its peak (the body pitching as the acceleration sets in): "
-            f"{verdict}")
+            "the strut's bending, which the ball-joint offset b and the spring line set); the "
+            f"speed-up unloads each front wheel by {steady:.0f} N steady (at constant "
+            f"acceleration) and by {peak:.0f} N at its peak (the body pitching as the "
+            "acceleration sets in). " + ". ".join(p[0].upper() + p[1:] for p in parts))
 
 
 def split_cell(row, scale, digits, unit=""):
+    """A steady change as the report writes it: its value, ± its converged error; not converged,
+    the spread that makes it so: the values at the steps tried (each step's, in ms), or a
+    locally resolved run's windows' summed error against their tolerance."""
     text = f"{signed(scale * row['value'], digits)}{unit}"
     if row["converged"] is False:
-        return text + " (not converged: " + ", ".join(
-            f"{signed(scale * v, digits)}" for v in row["values"]) + ")"
+        if len(row["values"]) > 1 or row["error"] is None:
+            return text + " (not converged: " + ", ".join(
+                f"{signed(scale * v, digits)} at {1e3 * h:g} ms"
+                for h, v in zip(row["steps_s"], row["values"])) + ")"
+        if not math.isfinite(row["error"]):
+            return text + " (not converged: a window's branch its twins found unsettled)"
+        tolerance = (f", above their tolerance {scale * row['tolerance']:.{digits}f}"
+                     if row.get("tolerance") is not None else "")
+        finest = row.get("finest_step_s")
+        down = f" resolved down to {1e3 * finest:g} ms" if finest else ""
+        return text + (f" (not converged: ±{scale * row['error']:.{digits}f} from the "
+                       f"windows{down}{tolerance})")
     if row["error"] is not None:
         return text + f" ±{scale * row['error']:.{digits}f}"
     return text

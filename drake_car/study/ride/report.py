@@ -296,7 +296,7 @@ def write_outputs(out, rows, runs, study, wall_s):
     # Every speed's launch, as the scenes were made (a speed without a finished run too).
     launches = {v: t.speed_up_s for v, t in ride_timelines(study, scene).items()}
     text = [
-        "# Ride comfort and road holding on rough roads against strut friction (issue 23)", "",
+        "# Ride comfort and road holding on rough roads against strut friction", "",
         *flag,
         f"{len(rows)} runs, each with its half-step twin ({2 * len(rows)} simulations); "
         f"analysis wall time {wall_s:.0f} s. Road: ISO 8608 (law/road/iso8608.py), one seed "
