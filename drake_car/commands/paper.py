@@ -108,7 +108,7 @@ def main(argv=None):
                    help="skip the comparison with the paper's own drive (both front wheels' "
                         "rotation prescribed: a locked front axle)")
     args = p.parse_args(argv)
-    cli.check_out(args)
+    cli.check_out(args, kept=("runs_dir",))
     scenes = load_study_file(args.scene, args.scene_text or None, command=PAPER, holds=(
         "the study's scenes file: each entry a run, a !LaneChange of case a or b with its "
         "friction set (as scenes/paper_study.yaml)"))
