@@ -12,6 +12,7 @@ import pytest
 from conftest import paper_scene
 from drake_car.model.parameters import CarParameters
 from drake_car.scene import borrowed
+from drake_car.scene.borrowed import drive_limit
 from drake_car.scene.launch import launch_description
 from drake_car.scene.load import load_scene
 from drake_car.study.car.describe import car_facts, car_lines, own_strut_damping, tyre_words
@@ -54,7 +55,7 @@ def test_the_car_section_and_the_launch_state_the_drive_s_torque():
     drive_line = next(line for line in car_lines(car_facts(scene))
                       if line.startswith("- **drive**"))
     assert "its torque limit 1740 N m" in drive_line and SET_DRIVE in drive_line
-    launch = launch_description(scene)
+    launch = launch_description(scene) | {"drive_limit": drive_limit(scene)}
     man = {"launch": launch | {"reached_within_tolerance_after_s": 3.0, "reached_run": "a_1"},
            "profile": {"amplitude_m": None, "second_lobe": None}, "calibration": None,
            "checks": {"a_1": []}, "off": {}}

@@ -113,6 +113,7 @@ def test_the_launch_line_gives_the_load_peak_mu_and_the_grip_were_evaluated_at()
     from conftest import paper_scene
     from drake_car.model.geometry import design_axle_loads_N
     from drake_car.scene import launch
+    from drake_car.scene.borrowed import drive_limit
     from drake_car.study.paper.manoeuvre import manoeuvre_section
     scene = paper_scene("a_1")
     limits = launch.launch_limits(scene)
@@ -123,7 +124,7 @@ def test_the_launch_line_gives_the_load_peak_mu_and_the_grip_were_evaluated_at()
     assert limits.peak_mu == pytest.approx(
         launch.peak_mu(launch._tyre(scene), limits.grip_load_N / 2), rel=1e-9)
     assert abs(limits.grip_load_N - limits.driven_load_N) > 100  # the two loads differ here
-    la = launch.launch_description(scene)
+    la = launch.launch_description(scene) | {"drive_limit": drive_limit(scene)}
     man = {"launch": la | {"reached_within_tolerance_after_s": 3.0, "reached_run": "a_1"},
            "profile": {"amplitude_m": None, "second_lobe": None}, "calibration": None,
            "checks": {"a_1": []}, "off": {}}

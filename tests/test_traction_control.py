@@ -87,3 +87,13 @@ def test_a_failed_calibration_says_the_speed_it_ran_at():
     assert "drive.torque_within_grip" in text
     at_speed = _last_words(dict(last, speed_at_place_a_kph=59.6), calibrating)
     assert "did not reach" not in at_speed and "at 59.6 km/h" in at_speed, at_speed
+
+
+def test_every_report_says_a_drive_clamped_to_the_tyres_grip():
+    from drake_car.scene.borrowed import drive_limit, drive_limit_words
+    sedan = load_scene(scene_text=SEDAN % "")
+    words = drive_limit_words(drive_limit(sedan))
+    assert f"clamped to {drive_torque_limit_Nm(sedan):.0f} N m" in words, words
+    assert "drive.torque_within_grip" in words
+    escort = load_scene("scenes/paper_study.yaml", child="a_3")
+    assert "clamped" not in drive_limit_words(drive_limit(escort))

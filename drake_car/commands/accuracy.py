@@ -147,7 +147,7 @@ def main(argv=None):
                    metavar="{fast,reference | fast | reference}",
                    help="run only one scheme's sweep (no analysis): to start the long one")
     args = p.parse_args(argv)
-    cli.check_out(args)
+    cli.check_out(args, kept=("runs_dir",))
     runs = [r for r in args.runs.split(",") if r]
     explicit_runs = [r for r in args.explicit_runs.split(",") if r]
     if not runs or not set(explicit_runs) <= set(runs):

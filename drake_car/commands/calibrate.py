@@ -22,6 +22,8 @@ import json
 
 from drake_car.commands import cli
 from drake_car.law.errors import InputError
+from drake_car.results.files import write_text
+from drake_car.results.folder import check_output_file
 from drake_car.results.provenance import provenance
 from drake_car.scene.manoeuvres import LaneChange
 from drake_car.sim import lane_change_cache
@@ -38,6 +40,8 @@ def main(argv=None):
                    help="the lateral shift to calibrate for (default: the scene's lane "
                         "change's shift_m, 3.7 m)")
     args = p.parse_args(argv)
+    if args.out is not None:
+        check_output_file(args.out)  # before the calibration's runs
     scene = cli.scene_from_args(args)
     if not isinstance(scene.manoeuvre, LaneChange):
         raise InputError(f"scene {scene.name}: manoeuvre = {type(scene.manoeuvre).__name__}; "
@@ -58,9 +62,8 @@ def main(argv=None):
                   "residual": residual, "cost": cost, "calibration": found["iterations"],
                   "provenance": provenance(target_shift_m=calibrating.manoeuvre.shift_m,
                                            scene=scene.name)}
-        tmp = args.out.with_suffix(".partial")
-        tmp.write_text(json.dumps(record, indent=2) + "\n")
-        tmp.replace(args.out)
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        write_text(args.out, json.dumps(record, indent=2) + "\n")  # whole, or not at all
     print(f"amplitude {profile['amplitude_m']:.6f} m, second lobe {profile['second_lobe']:.4f}: "
           f"shift {residual['shift_m']:.4f} m, heading change "
           f"{residual['heading_change_deg']:+.4f} deg; {cost['runs']} runs, "

@@ -23,7 +23,7 @@ from pathlib import Path
 from drake_car.commands import started
 from drake_car.law.checks import check_input_option, one_line
 from drake_car.law.errors import InputError, RunFailed
-from drake_car.results.folder import check_output_target
+from drake_car.results.folder import check_apart, check_output_target
 from drake_car.sweep.scheduler import SCHEDULER_ADDRESS
 
 
@@ -234,6 +234,10 @@ def run_main(main, argv=None):
         raise SystemExit(130) from None
 
 
-def check_out(args):
-    """Refuses a bad ``--out`` before any work (exit 2 through ``run_main``)."""
+def check_out(args, kept=()):
+    """Refuses a bad ``--out`` before any work (exit 2 through ``run_main``), and one that is,
+    holds or is inside a folder of the options named in ``kept`` (kept and added to, e.g.
+    "runs_dir"): --out is replaced whole."""
+    for name in kept:
+        check_apart(args.out, getattr(args, name), f"--{name}")
     check_output_target(args.out)

@@ -109,7 +109,7 @@ def main(argv=None):
                         "wheels' rotation prescribed: a locked driven axle, the front on the "
                         "paper's Escort, the rear on a rear-drive car's car.driven_axle)")
     args = p.parse_args(argv)
-    cli.check_out(args)
+    cli.check_out(args, kept=("runs_dir",))
     scenes = load_study_file(args.scene, args.scene_text or None, command=PAPER, holds=(
         "the study's scenes file: each entry a run, a !LaneChange of case a or b with its "
         "friction set (as scenes/paper_study.yaml)"))

@@ -5,13 +5,19 @@ drake_car output, an unwritable place are refused before any work), takes the fo
 (``results.lock``: a second writer to the same folder is refused), and yields a temporary
 folder beside the target; on success the target is replaced by it whole (a reused folder never
 mixes old and new files), on any error, Ctrl-C or SIGTERM the temporary folder is removed.
+An old output is replaced only while it holds nothing but what it wrote (its MARKER lists its
+files): another output, a sweep folder or a user's file put inside it later is named and
+refused (``check_only_its_own``), not deleted with it. A mount point is refused as --out (it
+cannot be renamed; a folder inside it can).
 Temporary folders of killed runs are removed by the next run that takes the lock (nobody else
 can be writing them then) and ignored by git (``.gitignore``).
 """
 
 import contextlib
 import errno
+import json
 import os
+import re
 import shutil
 import signal
 import tempfile
@@ -29,7 +35,9 @@ class OutputError(InputError):
     """The output folder cannot be used; the message names it and why."""
 
 
-MARKER = ".drake_car_output"  # in every folder this module wrote
+MARKER = ".drake_car_output"  # in every folder this module wrote, listing what it wrote
+_MARKER_TEXT = "written by drake_car; replaced whole by the next run that writes here\n"
+_LISTED = "its files and folders (anything else here stops that replacement):"
 
 
 # The names made beside --out: ".NAME.partial-PID-HEX8-old-HEX8" is the longest.
@@ -47,6 +55,10 @@ def check_output_target(out_dir):
                           f"{os.readlink(out_dir)}); remove it or choose another folder")
     if out_dir.is_file() or (out_dir.exists() and not out_dir.is_dir()):
         raise OutputError(f"--out {out_dir}: is a file, not a folder")
+    if is_mount_point(out_dir):
+        raise OutputError(f"--out {out_dir}: a mount point (a file system's root, which cannot "
+                          "be renamed, and an output is replaced whole by a rename); give a "
+                          f"folder inside it, e.g. --out {out_dir / 'results'}")
     if out_dir.is_dir() and any(out_dir.iterdir()) and not (out_dir / MARKER).is_file():
         raise OutputError(f"--out {out_dir}: exists, is not empty and was not written by "
                           "drake_car; choose a new or empty folder (it would be replaced whole)")
@@ -68,6 +80,132 @@ def check_output_target(out_dir):
                               f"{name_max} bytes, {name_max - _BESIDE_BYTES} for an output "
                               "folder (its temporary names are longer)")
     check_no_run_in_progress(out_dir)
+    check_only_its_own(out_dir)
+
+
+def is_mount_point(path):
+    """Whether ``path`` is a mount point: another file system's root (``os.path.ismount``) or
+    a bind mount of a folder of the same one (listed in /proc/self/mountinfo, Linux)."""
+    path = Path(path)
+    if not path.is_dir() or path.is_symlink():
+        return False
+    if os.path.ismount(path):
+        return True
+    try:
+        lines = Path("/proc/self/mountinfo").read_text().splitlines()
+    except OSError:
+        return False
+    where = os.path.realpath(path)
+    # field 5 is the mount point, with space, tab, newline and backslash escaped in octal
+    points = {re.sub(r"\\([0-7]{3})", lambda m: chr(int(m.group(1), 8)), line.split(" ")[4])
+              for line in lines if len(line.split(" ")) > 4}
+    return where in points
+
+
+def written_by_it(out_dir):
+    """The paths (relative, POSIX, a folder's ending in "/") the output in ``out_dir`` listed in
+    its MARKER as its own, or None when its MARKER lists none (written before the list was
+    kept)."""
+    try:
+        lines = (Path(out_dir) / MARKER).read_text(errors="replace").splitlines()
+    except OSError:
+        return None
+    if len(lines) < 2 or lines[1] != _LISTED:
+        return None
+    listed = set()
+    for line in lines[2:]:
+        with contextlib.suppress(ValueError):
+            listed.add(json.loads(line))
+    return listed
+
+
+def _kind(path):
+    """What ``path`` (in an old output, not its own) is, for the message."""
+    if path.is_dir() and not path.is_symlink():
+        if (path / MARKER).is_file():
+            return "another drake_car output"
+        if any((path / name).is_file() for name in ("sweep.json", "index.csv")):
+            return "a sweep folder"
+    if path.name.startswith(".") and path.name.endswith(".lock"):
+        return "another run's lock file"
+    if path.name.startswith(".") and ".partial-" in path.name:
+        return "another output's unfinished temporary folder"
+    return None
+
+
+def check_only_its_own(out_dir):
+    """An old output at ``out_dir`` is replaced whole, and anything in it with it: refused,
+    naming the first, when it holds what it did not write (another drake_car output, a sweep
+    folder, a lock file, a user's file or folder). An output written before its MARKER listed
+    its files is checked for those that can be told (outputs, sweeps, locks, temporary
+    folders)."""
+    out_dir = Path(out_dir)
+    if out_dir.is_symlink() or not (out_dir / MARKER).is_file():
+        return
+    own = written_by_it(out_dir)
+    for folder, dirs, files in os.walk(out_dir):
+        dirs.sort()
+        for name in sorted(files) + list(dirs):
+            path = Path(folder) / name
+            rel = path.relative_to(out_dir).as_posix()
+            if own is None:
+                kind = _kind(path)
+            elif (rel + "/" if name in dirs else rel) in own:
+                kind = None
+            else:
+                kind = _kind(path) or ("a folder" if name in dirs else "a file") + \
+                    " the previous output did not write"
+            if kind is not None:
+                raise OutputError(f"--out {out_dir}: the previous output there holds {rel} "
+                                  f"({kind}), which replacing it would delete; move that out "
+                                  "of it, or give another --out")
+        dirs[:] = [d for d in dirs if not (Path(folder) / d).is_symlink()]
+
+
+def _listing(staging):
+    """The MARKER's text for the output being finished in ``staging``: every path in it."""
+    paths = [MARKER]
+    for folder, dirs, files in os.walk(staging):
+        for name in dirs + files:
+            path = Path(folder) / name
+            rel = path.relative_to(staging).as_posix()
+            paths.append(rel + "/" if name in dirs else rel)
+    return _MARKER_TEXT + _LISTED + "\n" + "".join(
+        json.dumps(p) + "\n" for p in sorted(set(paths)))
+
+
+def check_apart(out, other, option):
+    """``other`` (a folder another option names, e.g. --runs_dir, kept and added to) neither
+    is --out, nor inside it, nor holds it: --out is replaced whole and would delete it."""
+    if other is None or out is None:
+        return
+    a, b = Path(os.path.realpath(out)), Path(os.path.realpath(other))
+    if b.is_relative_to(a) or a.is_relative_to(b):
+        where = "is" if a == b else "is inside" if b.is_relative_to(a) else "holds"
+        raise OutputError(f"{option} {other} {where} --out {out}; --out is replaced whole and "
+                          f"{option} is kept: give folders apart, e.g. {option} "
+                          f"{Path(out).parent / (Path(out).name + '_runs')}")
+
+
+def check_output_file(out):
+    """Refuses, before any work, an --out FILE that cannot be written: an existing folder (a
+    file's path is wanted), something else that is not a file, a dangling symbolic link, a
+    place whose nearest existing folder cannot be written in."""
+    out = Path(out)
+    if out.is_symlink() and not out.exists():
+        raise OutputError(f"--out {out}: a dangling symbolic link (to {os.readlink(out)}); "
+                          "remove it or choose another file")
+    if out.is_dir():
+        raise OutputError(f"--out {out}: is a folder; give a file's path, e.g. --out "
+                          f"{out / 'calibration.json'}")
+    if out.exists() and not out.is_file():
+        raise OutputError(f"--out {out}: exists and is not a file")
+    probe = out.parent
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        raise OutputError(f"--out {out}: {probe} is not a folder you can write in")
+    check_writable(out, probe)
 
 
 def check_writable(out_dir, folder):
@@ -165,12 +303,12 @@ def output_folder(out_dir):
         try:
             with _os_errors_named(out_dir, parent):
                 staging.mkdir()
-                write_text(staging / MARKER, "written by drake_car; replaced whole by the "
-                           "next run that writes here\n")
+                write_text(staging / MARKER, _MARKER_TEXT)
             with _os_errors_named(out_dir, parent):
                 yield staging
             if not (staging / "README.md").exists():  # what the columns mean
                 write_text(staging / "README.md", folder_readme(staging, out_dir.name))
+            write_text(staging / MARKER, _listing(staging))
             check_output_target(out_dir)  # still a folder we may replace
             with _os_errors_named(out_dir, parent):
                 old = None

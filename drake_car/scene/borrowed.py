@@ -22,6 +22,7 @@ import logging
 from drake_car.law.tyre.magic_formula import relaxation_lengths_m, relaxation_source
 from drake_car.law.tyre.slip import SlipOptions
 from drake_car.model.loading import read_tyre
+from drake_car.scene.launch import drive_torque_limit_Nm
 from drake_car.scene.limits import wheel_load_at_rest_N
 from drake_car.scene.scene import LinearTyre, MagicFormula, OpenDifferential
 
@@ -41,7 +42,6 @@ def drive_limit(scene):
     drive = scene.drive
     if not isinstance(drive, OpenDifferential):
         return None
-    from drake_car.scene.launch import drive_torque_limit_Nm  # it states this limit itself
     shipped = drive.max_wheel_torque_Nm == OpenDifferential().max_wheel_torque_Nm
     return {"max_wheel_torque_Nm": drive.max_wheel_torque_Nm,
             "source": "shipped" if shipped else "scene",

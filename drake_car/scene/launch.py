@@ -61,7 +61,6 @@ from drake_car.law.tyre.magic_formula import MagicFormulaTyre, magic_formula
 from drake_car.model.drive import driven_axle, rolling_radius
 from drake_car.model.geometry import GRAVITY_MPS2, centre_of_mass, design_axle_loads_N
 from drake_car.model.loading import tir_path
-from drake_car.scene.borrowed import drive_limit
 from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH, place_a
 from drake_car.scene.manoeuvres import PAPER_SPEED_UP_S, speed_profile
 from drake_car.scene.scene import LinearTyre, MagicFormula, PrescribedRotation
@@ -313,14 +312,15 @@ def _tyre_forces(scene):
 
 def launch_description(scene):
     """What the report says about the launch of a resolved scene (JSON-ready): its length, what
-    the car's drive allows and what limits it, the speed predicted at place a."""
+    the car's drive allows and what limits it, the speed predicted at place a (the drive's
+    limit with its source: ``scene.borrowed.drive_limit``)."""
     timeline = scene.manoeuvre.timeline
     limits = launch_limits(scene)
     peak = timeline.speed_mps / max(timeline.launch_s - min(BLEND_S, timeline.launch_s / 3),
                                     1e-9)
     return {"speed_up_s": timeline.launch_s, "speed_kph": timeline.speed_kph,
             "paper_speed_up_s": PAPER_SPEED_UP_S, "profile_peak_accel_mps2": peak,
-            "drive_accel_mps2": limits.drive_accel_mps2, "drive_limit": drive_limit(scene),
+            "drive_accel_mps2": limits.drive_accel_mps2,
             "traction_accel_mps2": limits.traction_accel_mps2,
             "max_accel_mps2": limits.max_accel_mps2, "limited_by": limits.limited_by,
             "lag_s": limits.lag_s, "peak_mu": limits.peak_mu, "driven_axle": limits.driven_axle,

@@ -10,7 +10,7 @@ import logging
 
 import numpy as np
 
-from drake_car.scene.borrowed import drive_limit_words
+from drake_car.scene.borrowed import drive_limit, drive_limit_words
 from drake_car.scene.launch import launch_description
 from drake_car.scene.manoeuvre_targets import (
     SPEED_TOLERANCE_KPH, dry_friction, manoeuvre_measures)
@@ -59,7 +59,7 @@ def manoeuvre_summary(runs: dict, calibration):
     if calibration is not None:
         cal = {k: calibration.get(k) for k in ("profile", "residual", "cost", "source",
                                                  "content_sha256")}
-    return {"launch": launch_description(first.scene) | {
+    return {"launch": launch_description(first.scene) | {"drive_limit": drive_limit(first.scene)} | {
                 "reached_within_tolerance_after_s": reached_s(first.history, m.timeline),
                 "reached_run": first.scene.name},
             "shift_m": m.shift_m, "steer_s": m.timeline.steer_s,
