@@ -69,6 +69,21 @@ def test_a_rerun_refuses_to_delete_what_its_output_did_not_write(plant, kind, tm
     assert not list(tmp_path.glob(".res.*"))  # no temporary folder left beside it
 
 
+def test_a_file_that_came_into_the_output_during_the_run_costs_no_finished_result(tmp_path):
+    """An editor's swap file written into the old output while a long run works: the run's
+    finished output may not replace it (the file is not the old output's), so it is kept
+    beside it under a visible name, said in the error, not deleted (review rv45)."""
+    res = tmp_path / "res"
+    _write_output(res, ("a.csv",))
+    with pytest.raises(OutputError, match=r"this run's output is kept in .*res\.kept-1"):
+        with output_folder(res) as staging:
+            (staging / "b.csv").write_text("hours of work")
+            (res / ".a.csv.swp").write_text("editor")  # during the run
+    assert (tmp_path / "res.kept-1" / "b.csv").read_text() == "hours of work"
+    assert (res / "a.csv").exists() and (res / ".a.csv.swp").exists()  # the old, untouched
+    assert not list(tmp_path.glob(".res.partial-*"))
+
+
 def test_an_output_from_before_the_listing_is_checked_for_outputs_inside(tmp_path):
     """An old MARKER lists nothing: its own files cannot be told from a user's (replaced as
     before), but another output or a sweep folder inside it still stops the rerun."""

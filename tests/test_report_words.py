@@ -231,6 +231,14 @@ def test_a_dry_run_s_heading_is_the_friction_s_effect_not_an_off_manoeuvre():
     off = runs(0.1196, 0.0)
     assert "a_1: heading change at its end 0.12 deg" in "\n".join(manoeuvre_flag(off))
     assert "| a_1 | 60.00 | 3.700 | 0.1196 **OFF** |" in "\n".join(manoeuvre_section(off))
+    # A study of dry runs only judges none of them: said so (review rv45), not "judged on the
+    # runs without dry strut friction" of which there are none.
+    only_dry = {"manoeuvre": manoeuvre_summary({"a_3": types.SimpleNamespace(
+        scene=paper_scene("a_3"), history=history(paper_scene("a_3").manoeuvre.timeline,
+                                                  heading_deg=0.1196))}, None)}
+    text = "\n".join(manoeuvre_section(only_dry))
+    assert "No run here is without dry strut friction" in text, text
+    assert "judged on the runs without" not in text
 
 
 @pytest.mark.parametrize("command", ["car_checks", "settle"])

@@ -65,12 +65,13 @@ def test_the_clamp_is_the_drive_s_or_the_tyres_whichever_is_less():
 
 
 def test_a_rev_limit_unstable_at_the_step_is_refused():
-    # 2 I / K with I = 1.0 kg m²: a governor gain of 5000 N m s/rad is stable below 0.4 ms;
+    # 4 I / K with I = 1.0 kg m²: a governor gain of 5000 N m s/rad is stable below 0.8 ms;
     # the step is 1 ms.
     with pytest.raises(SceneError) as found:
         load_scene(scene_text=SEDAN % ", governor_gain_Nm_per_radps: 5000.0")
     text = str(found.value)
-    assert "drive.governor_gain_Nm_per_radps" in text and "2 I / K" in text, text
+    assert "drive.governor_gain_Nm_per_radps" in text and "4 I / K" in text, text
+    assert "a gain of at most 4000 N m s/rad" in text, text
 
 
 def test_a_failed_calibration_says_the_speed_it_ran_at():

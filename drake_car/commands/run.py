@@ -29,7 +29,8 @@ import sys
 from drake_car.commands import cli
 from drake_car.law.errors import InputError
 from drake_car.scene.load import load_scene, parse_scene_option
-from drake_car.scene.manoeuvre_targets import dry_friction, manoeuvre_failures
+from drake_car.scene.manoeuvre_targets import (
+    dry_friction, manoeuvre_failures, manoeuvre_measures)
 from drake_car.results.files import write_run
 from drake_car.results.folder import output_folder
 from drake_car.results.record import rerun_note
@@ -56,10 +57,17 @@ def main(argv=None):
     with output_folder(args.out) as out:
         run = simulate(scene, progress=not args.quiet)
         write_run(run, out)
-    off = manoeuvre_failures(run.history, run.scene.manoeuvre, dry_friction(run.scene))
+    dry = dry_friction(run.scene)
+    off = manoeuvre_failures(run.history, run.scene.manoeuvre, dry)
     if off:
         logging.getLogger("drake_car.commands.run").warning(
             "%s does not do what its manoeuvre says: %s", scene.name, "; ".join(off))
+    moved = [m.describe() for m in manoeuvre_measures(run.history, run.scene.manoeuvre, dry)
+             if not m.within and m.friction_effect]
+    if moved:  # not judged: said, with how to judge the rack itself
+        logging.getLogger("drake_car.commands.run").warning(
+            "%s: %s; not judged with dry strut friction: to check the rack itself, run the "
+            "scene again with --scene_text \"friction: null\"", scene.name, "; ".join(moved))
     print(f"{scene.name}: {run.history['t'][-1]:g} s simulated in {run.wall_s:.1f} s "
           f"({run.frozen_sap_steps} frozen SAP steps); wrote {args.out}", file=sys.stderr)
 

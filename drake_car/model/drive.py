@@ -79,6 +79,7 @@ def differential_speed_gain(plant, car):
 
 def explicit_time_step_limit_s(params, gain_Nm_per_radps):
     """The largest step at which a torque of -K/2 per driven wheel on the differential's
-    mean speed, applied explicitly (the rev limit), is stable: 2 I / K, I a wheel's spin
-    inertia (conservative: the mode in which both wheels turn alike is stable up to 4 I / K)."""
-    return 2.0 * params.mass.wheel_spin_inertia_kgm2 / gain_Nm_per_radps
+    mean speed (ω_l + ω_r) / 2, applied explicitly (the rev limit), is stable: its modes are
+    0 (the wheels turning apart) and -K / (2 I) (alike), I a wheel's spin inertia, so explicit
+    Euler is stable for steps below 4 I / K."""
+    return 4.0 * params.mass.wheel_spin_inertia_kgm2 / gain_Nm_per_radps

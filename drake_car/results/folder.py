@@ -309,7 +309,11 @@ def output_folder(out_dir):
             if not (staging / "README.md").exists():  # what the columns mean
                 write_text(staging / "README.md", folder_readme(staging, out_dir.name))
             write_text(staging / MARKER, _listing(staging))
-            check_output_target(out_dir)  # still a folder we may replace
+            try:
+                check_output_target(out_dir)  # still a folder we may replace
+            except OutputError as refused:  # something came into it during the run: the
+                kept = _kept_beside(staging, parent, name)  # finished output is not lost
+                raise OutputError(f"{refused}; this run's output is kept in {kept}") from None
             with _os_errors_named(out_dir, parent):
                 old = None
                 if out_dir.exists():
@@ -326,6 +330,17 @@ def output_folder(out_dir):
         finally:
             if staging.exists():
                 _remove(staging)
+
+
+def _kept_beside(staging, parent, name):
+    """A finished output that may not replace its folder, renamed to a visible name beside
+    it (``NAME.kept-N``); returns that path."""
+    for n in range(1, 1000):
+        kept = parent / f"{name}.kept-{n}"
+        if not kept.exists():
+            staging.rename(kept)
+            return kept
+    raise OutputError(f"{parent / name}: 999 kept outputs beside it; remove them")
 
 
 def _remove(path):

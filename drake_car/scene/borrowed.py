@@ -22,7 +22,7 @@ import logging
 from drake_car.law.tyre.magic_formula import relaxation_lengths_m, relaxation_source
 from drake_car.law.tyre.slip import SlipOptions
 from drake_car.model.loading import read_tyre
-from drake_car.scene.launch import drive_torque_limit_Nm
+from drake_car.scene.launch import TRACTION_MARGIN, drive_torque_limit_Nm
 from drake_car.scene.limits import wheel_load_at_rest_N
 from drake_car.scene.scene import LinearTyre, MagicFormula, OpenDifferential
 
@@ -62,8 +62,8 @@ def drive_limit_words(limit):
     runs = limit.get("runs_Nm", limit["max_wheel_torque_Nm"])
     if runs < limit["max_wheel_torque_Nm"]:
         text += (f", clamped to {runs:.0f} N m: what the driven tyres transmit in the launch "
-                 "(`drive.torque_within_grip`: 0.9 of their peak grip; a clamp above it spins "
-                 "the wheels past the peak)")
+                 f"(`drive.torque_within_grip`: {TRACTION_MARGIN:g} of their peak grip [EST]; a "
+                 "clamp above it spins the wheels past the peak)")
     return text
 
 

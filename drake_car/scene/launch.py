@@ -47,7 +47,7 @@ torque_within_grip`` (the default): the drive's clamp is then the lesser of its 
 traction limit above (``drive_torque_limit_Nm``); without it a lagging controller asks its
 whole clamp and spins the wheels past the tyre's peak slip. Measured: the 1500 kg rear-drive
 sedan of tests/data/rwd_sedan.yaml with 3500 N m on Chrono's Generic_Pac02Tire (grip-limited
-at 4.72 m/s²) predicted 59.74, simulated 59.39 km/h at place a, κ at most 0.073 (its tyre's
+at 4.72 m/s²) predicted 59.35, simulated 59.39 km/h at place a, κ at most 0.073 (its tyre's
 peak 0.116); without the clamp 39 km/h, κ 16.
 """
 
@@ -147,17 +147,17 @@ def peak(tyre, load_N):
     return float(fine[k]), values[k] / load_N
 
 
-def drive_torque_limit_Nm(scene):
+def drive_torque_limit_Nm(scene, limits=None):
     """The open differential's torque limit as it runs (both wheels): ``max_wheel_torque_Nm``,
     with ``OpenDifferential.torque_within_grip`` no more than the driven tyres transmit in the
     launch, ``TRACTION_MARGIN`` of their peak grip at the launch's load on the
     loaded radius (``launch_limits``' traction limit, which the launch is planned for): a
     speed controller that lags asks its whole clamp, and a clamp above the tyres' peak spins
-    the wheels past it."""
+    the wheels past it. ``limits``: the scene's ``launch_limits`` (None: found here)."""
     drive = scene.drive
     if not drive.torque_within_grip or not _tyre_forces(scene):
         return drive.max_wheel_torque_Nm
-    limits = launch_limits(scene)
+    limits = limits or launch_limits(scene)
     traction = limits.traction_accel_mps2 * limits.controller_mass_kg * limits.rolling_radius_m
     return min(drive.max_wheel_torque_Nm, traction)
 
@@ -221,6 +221,7 @@ def predicted_speed(scene, timeline, limits: LaunchLimits = None, until_s=None):
     v = np.zeros_like(t)
     accel = 0.0
     mu = limits.peak_mu
+    clamp = None if prescribed else drive_torque_limit_Nm(scene, limits)
     for i in range(1, len(t)):
         load = max(static + transfer * accel, 1.0)
         loaded = unloaded - load / 2 / stiffness
@@ -234,7 +235,7 @@ def predicted_speed(scene, timeline, limits: LaunchLimits = None, until_s=None):
         else:
             torque = m_c * radius * a_ref[i - 1] + drive.speed_gain_Nm_per_mps * (
                 v_ref[i - 1] - v[i - 1])
-            torque = max(-drive.max_wheel_torque_Nm, min(drive.max_wheel_torque_Nm, torque))
+            torque = max(-clamp, min(clamp, torque))
             force = torque / loaded
         force = min(force, mu * load)
         accel = (force - resistance) / inertial_mass if moving or force > 0 else 0.0

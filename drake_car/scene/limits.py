@@ -109,9 +109,11 @@ def _check_drive_loops(scene):
     if step > limit:
         raise ParameterError(
             "drive.governor_gain_Nm_per_radps", gain,
-            f"makes a wheel-spin loop stable only for steps below {limit:.2g} s (2 I / K, the "
-            f"wheels' spin inertia {scene.car.mass.wheel_spin_inertia_kgm2:g} kg m²); "
-            f"plant.time_step is {step:g} s: lower it, or take a smaller step")
+            f"makes the rev limit's loop stable only for steps below {limit:.2g} s (4 I / K, "
+            f"the wheels' spin inertia I {scene.car.mass.wheel_spin_inertia_kgm2:g} kg m²); "
+            f"plant.time_step is {step:g} s: a gain of at most "
+            f"{4 * scene.car.mass.wheel_spin_inertia_kgm2 / step:.0f} N m s/rad, or a step "
+            f"below {limit:.2g} s")
 
 
 def wheel_load_at_rest_N(car):

@@ -160,7 +160,8 @@ class OpenDifferential:
     # [EST] the engine's rev limit as a governor: above ``rev_limit_ratio`` times the wheel
     # speed of the manoeuvre's top speed, the differential's mean speed is pulled back with
     # ``governor_gain_Nm_per_radps`` (an open differential sends the torque to a lifted wheel,
-    # which would otherwise spin up without bound). Explicit: stable for dt < 2 I / K (12 ms).
+    # which would otherwise spin up without bound). Explicit: stable for dt < 4 I / K (24 ms;
+    # ``scene.limits`` refuses a gain unstable at the scene's step).
     rev_limit_ratio: float = 1.3
     governor_gain_Nm_per_radps: float = 100.0
     # The clamp no more than the driven tyres transmit in the launch (``scene.launch.

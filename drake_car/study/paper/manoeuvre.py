@@ -155,8 +155,13 @@ def manoeuvre_section(s):
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     dry = sorted(n for n in names if any(m.get("friction_effect") for m in man["checks"][n]))
     if dry:
-        lines += ["", f"The lateral shift and the heading are judged on the runs without dry "
-                  f"strut friction: every run gets the same rack input, and in {', '.join(dry)} "
+        judged = [n for n in names if n not in dry]
+        lines += ["", (f"The lateral shift and the heading are judged on the runs without dry "
+                       f"strut friction ({', '.join(judged)})" if judged else
+                       "No run here is without dry strut friction: the lateral shift and the "
+                       "heading are judged on none of them (the rack's own check is its "
+                       "calibration's, on the car without dry friction, above)")
+                  + f": every run gets the same rack input, and in {', '.join(dry)} "
                   "(dry struts) the path it makes is moved by the friction the study measures; "
                   "beyond the tolerance there it is marked as the friction's effect, not as a "
                   "manoeuvre that is off."]

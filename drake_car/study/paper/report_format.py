@@ -4,7 +4,6 @@ and figure links (pure formatting, no study logic)."""
 
 import math
 
-from drake_car.results.numbers import signed  # noqa: F401 (report_sections takes it from here)
 from drake_car.study.paper.local_route import local_error
 
 SYMBOLS = {"<=": "≤", "<": "<", ">": ">", ">=": "≥", "==": "="}

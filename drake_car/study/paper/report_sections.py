@@ -6,9 +6,9 @@ its drive comes from the summary, which the scenes that ran made."""
 
 import math
 
+from drake_car.results.numbers import signed
 from drake_car.study.paper.report_format import (
-    by_step, error_text, flip, links, quantity, signed, table_row, threshold_text,
-    verdict_text)
+    by_step, error_text, flip, links, quantity, table_row, threshold_text, verdict_text)
 
 
 def paper_drive(s):
