@@ -5,9 +5,10 @@ the option, where a command gives one). Each reader is called in a thread with a
 before the fix it blocked on the pipe."""
 
 import os
-import threading
 
 import pytest
+
+from test_sweep import in_thread
 
 from drake_car.law.errors import InputError
 
@@ -17,15 +18,7 @@ TIMEOUT_S = 20.0  # a refusal is a stat and an open: far below this on any machi
 def returns(call):
     """What ``call()`` raised or returned, failing the test if it is still blocked after
     TIMEOUT_S (the thread is a daemon: a blocked read does not hold up pytest's exit)."""
-    outcome = {}
-
-    def target():
-        try:
-            outcome["value"] = call()
-        except BaseException as e:  # noqa: BLE001 - handed to the test
-            outcome["error"] = e
-    thread = threading.Thread(target=target, daemon=True)
-    thread.start()
+    thread, outcome = in_thread(call)
     thread.join(TIMEOUT_S)
     assert not thread.is_alive(), f"still reading the named pipe after {TIMEOUT_S} s"
     return outcome
