@@ -280,7 +280,9 @@ def test_the_design_study_on_the_user_s_car_calibrates_its_rack_once(engineer):
     m = adapted.base.manoeuvre
     assert m.timeline.speed_up_s == 6.0  # the user's launch, as stated
     assert (m.amplitude_m, m.second_lobe) != base_car.shipped_profile()
-    assert len(words) == 1 and words[0].startswith("the rack calibrated for this car")
+    # the calibrated rack, and the severity range scaled by it (study.design.base_car)
+    assert len(words) == 2 and words[0].startswith("the rack calibrated for this car"), words
+    assert words[1].startswith("the severity range") and "times its rack calibrated" in words[1]
     from drake_car.sim import lane_change_cache
     from drake_car.sim.lane_change_calibration import calibration_scene
     found = lane_change_cache.find(lane_change_cache.content_sha256(calibration_scene(
