@@ -258,3 +258,16 @@ def test_quiet_shows_no_progress_bar(command, tmp_path, monkeypatch):
         with pytest.raises(_Stop):
             module.main([*quiet, "--out", str(tmp_path / f"out{len(asked)}")])
     assert asked == [False, True]
+
+
+def test_a_dry_run_s_path_beyond_its_tolerance_is_said_not_judged():
+    """drake-car-run of a dry lane change with a rack of the user's that moves the car 2.57 m
+    instead of 3.7: not flagged off (the friction moves the path), but said, without claiming
+    the rack is the frictionless run's calibration (review rv45)."""
+    from drake_car.scene.manoeuvre_targets import Measure
+    moved = Measure("lateral shift over the lane change", 2.57, 3.7, 0.05, "m",
+                    friction_effect=True)
+    assert moved.ok and not moved.within
+    text = moved.describe()
+    assert text.endswith("beyond it, with dry strut friction, which moves the path (not "
+                         "judged)") and "frictionless" not in text, text

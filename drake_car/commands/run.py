@@ -66,8 +66,8 @@ def main(argv=None):
              if not m.within and m.friction_effect]
     if moved:  # not judged: said, with how to judge the rack itself
         logging.getLogger("drake_car.commands.run").warning(
-            "%s: %s; not judged with dry strut friction: to check the rack itself, run the "
-            "scene again with --scene_text \"friction: null\"", scene.name, "; ".join(moved))
+            "%s: %s; to check the rack itself, run the scene again with --scene_text "
+            "\"friction: null\"", scene.name, "; ".join(moved))
     print(f"{scene.name}: {run.history['t'][-1]:g} s simulated in {run.wall_s:.1f} s "
           f"({run.frozen_sap_steps} frozen SAP steps); wrote {args.out}", file=sys.stderr)
 

@@ -60,8 +60,8 @@ class Measure:
             return f"{self.what}: not measured (the run stopped before, or did not log it)"
         return (f"{self.what} {self.value:.2f} {self.unit}, asked {self.target:.2f} ± "
                 f"{self.tolerance:.2g} {self.unit}" + (
-                    "" if self.within else ": beyond it by the strut friction's effect (the "
-                    "rack input is the frictionless run's)" if self.friction_effect else
+                    "" if self.within else ": beyond it, with dry strut friction, which "
+                    "moves the path (not judged)" if self.friction_effect else
                     ": OFF"))
 
 
