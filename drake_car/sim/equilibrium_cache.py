@@ -26,11 +26,11 @@ import json
 import logging
 import math
 import os
-import sys
 import tempfile
 from importlib import metadata
 from pathlib import Path
 
+from drake_car.law.numerics.cache_folder import user_cache_base
 from drake_car.sim.equilibrium import Equilibrium
 
 ENVIRONMENT_VARIABLE = "DRAKE_CAR_CACHE_DIR"
@@ -45,13 +45,7 @@ def cache_root():
     chosen = os.environ.get(ENVIRONMENT_VARIABLE)
     if chosen:
         return None if chosen == "off" else Path(chosen).expanduser()
-    if sys.platform == "darwin":
-        base = Path.home() / "Library" / "Caches"
-    elif os.name == "nt":
-        base = Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local"))
-    else:
-        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "drake_car"
+    return user_cache_base() / "drake_car"
 
 
 def cache_folder():
