@@ -42,10 +42,15 @@ def drive_limit(scene):
     drive = scene.drive
     if not isinstance(drive, OpenDifferential):
         return None
-    shipped = drive.max_wheel_torque_Nm == OpenDifferential().max_wheel_torque_Nm
-    return {"max_wheel_torque_Nm": drive.max_wheel_torque_Nm,
-            "source": "shipped" if shipped else "scene",
+    return {"max_wheel_torque_Nm": drive.max_wheel_torque_Nm, "source": _source(drive),
             "runs_Nm": drive_torque_limit_Nm(scene)}
+
+
+def _source(drive):
+    """Where an open differential's torque limit comes from: "shipped" (the default, the
+    Escort's estimate) or "scene"."""
+    shipped = drive.max_wheel_torque_Nm == OpenDifferential().max_wheel_torque_Nm
+    return "shipped" if shipped else "scene"
 
 
 def drive_limit_words(limit):
@@ -124,16 +129,17 @@ def relaxation_words(r):
 def say_borrowed(scene, where="scene"):
     """Warns on stderr, once per process and value, where a loaded scene's car runs with the
     shipped car's drive torque or leaves its tyre file's relaxation data unused."""
-    limit = drive_limit(scene)
-    if (scene.car_file and getattr(scene.manoeuvre, "drives", False) and limit is not None
-            and limit["source"] == "shipped"):  # a scene that launches: not a settle
-        key = ("drive", limit["max_wheel_torque_Nm"])
+    drive = scene.drive  # its source only: the clamp (drive_limit's runs_Nm) is not needed here
+    if (scene.car_file and getattr(scene.manoeuvre, "drives", False)
+            and isinstance(drive, OpenDifferential)
+            and _source(drive) == "shipped"):  # a scene that launches: not a settle
+        key = ("drive", drive.max_wheel_torque_Nm)
         if key not in _SAID:
             _SAID.add(key)
             log.warning("%s: car_file %s runs with the drive's torque limit "
                         "drive.max_wheel_torque_Nm = %g N m, the shipped Escort's estimate "
                         "[EST], not this car's: it sets the launch; set your car's with %s",
-                        where, scene.car_file, limit["max_wheel_torque_Nm"], SET_DRIVE)
+                        where, scene.car_file, drive.max_wheel_torque_Nm, SET_DRIVE)
     if isinstance(scene.tyres, (MagicFormula, LinearTyre)) and scene.tyres.slip.relaxation \
             and not scene.tyres.slip.relaxation_lengths_from_file:
         r = relaxation(scene)
