@@ -16,6 +16,7 @@ peak on every file; PAC2002 Mz within 0.2 % (OpenTire's cos'α is cos(tan α), o
 """
 
 import csv
+import re
 import math
 import io
 from pathlib import Path
@@ -119,6 +120,19 @@ def test_unsupported_formats_are_refused_by_name(tmp_path, text, match):
     path = tmp_path / "other.tir"
     path.write_text(text)
     with pytest.raises(TirFileError, match=match):
+        MagicFormulaTyre.from_file(path)
+
+
+@pytest.mark.parametrize("line, said", [(None, "PCX1 (absent, so 0)"),
+                                          ("PCX1 = 0", "PCX1 = 0 gives")])
+def test_a_zero_shape_factor_says_whether_the_file_left_it_out(tmp_path, line, said):
+    # An absent coefficient reads as 0 (the format's default): the refusal must say which
+    # of the two the file did, or an engineer hunts for a "PCX1 = 0" line that is not there.
+    lines = [l for l in (DATA / "Generic_Pac02Tire.tir").read_text().splitlines()
+             if not l.startswith("PCX1")]
+    path = tmp_path / "edited.tir"
+    path.write_text("\n".join(lines + ([] if line is None else [line])) + "\n")
+    with pytest.raises(TirFileError, match=r"edited.tir: " + re.escape(said)):
         MagicFormulaTyre.from_file(path)
 
 
@@ -277,3 +291,14 @@ def test_vertical_stiffness_and_damping_from_the_file():
                                          r"\.tir has no VERTICAL_STIFFNESS and no "
                                          r"VERTICAL_DAMPING"):
         scene("{tyres: !MagicFormula {vertical_from_file: true}}")
+
+
+def test_a_latin1_comment_reads_as_the_same_tyre(tmp_path):
+    # Windows tools write comments such as "25 °C" in Latin-1; the values are ASCII, so the
+    # file must give the same tyre as its UTF-8 twin, not a "not a text file" refusal.
+    text = (DATA / "Generic_Pac02Tire.tir").read_text()
+    latin, utf8 = tmp_path / "latin.tir", tmp_path / "utf8.tir"
+    latin.write_bytes(("$ measured at 25 °C\n" + text).encode("latin-1"))
+    utf8.write_text("$ measured at 25 °C\n" + text, encoding="utf-8")
+    a, b = MagicFormulaTyre.from_file(latin), MagicFormulaTyre.from_file(utf8)
+    assert a.coefficients == b.coefficients

@@ -114,8 +114,12 @@ def check_forces(tyre, magic_formula):
     for key, scale in (("PCX1", "LCX"), ("PCY1", "LCY")):
         shape_factor = getattr(tyre, key) * getattr(tyre, scale)
         if not 0 < shape_factor <= 3:
-            raise TirFileError(f"{tyre.name}: {key} = {getattr(tyre, key)} gives the shape "
-                               f"factor C = {shape_factor:.4g}; it must lie in (0, 3] "
+            given = (f"{key} (absent, so 0)" if key in tyre.defaulted
+                     else f"{key} = {getattr(tyre, key):g}")
+            if getattr(tyre, scale) != 1.0:
+                given += f" with {scale} = {getattr(tyre, scale):g}"
+            raise TirFileError(f"{tyre.name}: {given} gives the shape factor C = "
+                               f"{shape_factor:.4g}; it must lie in (0, 3] "
                                "(Pacejka 2006: about 1.3-1.7 for a road tyre)")
     nominal = tyre.FNOMIN
     if math.isfinite(tyre.FZMAX):

@@ -21,12 +21,18 @@ def parse_tir(text, name="<tir text>"):
 
 
 def read_tir(path):
+    """The ``PropertyFile`` in .tir file ``path``: UTF-8, or else Latin-1 (tools on Windows
+    write comments such as "25 °C" that way; every value the formula reads is ASCII); a file
+    with a NUL byte is no text and is refused."""
     path = Path(path)
+    data = read_tir_bytes(path)
+    if b"\0" in data:
+        raise TirFileError(f"{path}: not a text file (byte {data.index(0)} is NUL); a .tir "
+                           "file is plain text")
     try:
-        text = read_tir_bytes(path).decode("utf-8")
-    except UnicodeDecodeError as e:
-        raise TirFileError(f"{path}: not a text file (byte {e.start} is not UTF-8); a .tir "
-                           "file is plain text") from None
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        text = data.decode("latin-1")
     return parse_tir(text, str(path))
 
 
