@@ -168,6 +168,10 @@ def test_main_job_smoke_local_route(tmp_path):
     assert "## How each run was made accurate, and what it cost" in report
     summary = json.loads((out / "summary.json").read_text())
     assert summary["refinement"]["route"] == "local"
+    # summary.json holds all a report says: read back (its int keys now strings), it makes the
+    # same report
+    from drake_car.study.paper.report import report as paper_report
+    assert paper_report(summary) == report
 
 
 @pytest.mark.slow

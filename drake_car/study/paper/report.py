@@ -49,7 +49,7 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
     scenes = [run.scene for run in runs.values()]
     t = next(iter(study.values())).columns["t"]
     t2, t3, t4, _ = timeline.boundaries()
-    return {
+    made = {
         "claims": claims,
         "deciding_numbers": measures,
         "friction_sets": sets,
@@ -90,6 +90,9 @@ def summary(study, claims, shifts, timeline, *, runs, outcomes, figures, wall_s,
         "working_folder_files": sorted({n for sc in scenes for n in working_folder_names(
             [sc.car_file, getattr(sc.tyres, "tir_file", None)])}),
     }
+    for i, c in enumerate(claims, start=1):  # the why the report gives, not the runs' step's
+        c["why"] = sections.claim_why(made, i)
+    return made
 
 
 def verdict_line(claims, *, verified, steps_s):
@@ -136,7 +139,9 @@ def _car_section(s):
 
 def _set_lines(s):
     """The study's runs, each set from its scenes' values, and the sets each claim judges."""
-    sets = {n: FrictionSet(**f) for n, f in sorted(s["friction_sets"].items())}
+    # int keys: a summary read back from summary.json has them as strings
+    sets = {int(n): FrictionSet(**f) for n, f in sorted(s["friction_sets"].items(),
+                                                           key=lambda item: int(item[0]))}
     roles = s["set_roles"]
     example = next(name for name, r in sorted(s["runs"].items())
                    if r["case"] == "a" and r["friction_set"] == max(sets))
