@@ -185,3 +185,14 @@ def test_a_mount_point_as_out_is_refused_before_the_work(tmp_path, monkeypatch):
 def test_mount_points_are_told_from_folders():
     assert folder.is_mount_point(Path("/proc"))
     assert not folder.is_mount_point(Path(__file__).parent)
+
+
+def test_a_name_that_is_not_utf8_is_refused_before_the_work(tmp_path, capsys):
+    # The output's README and provenance name their folder in UTF-8 text: a name with a byte
+    # that is no UTF-8 (a Latin-1 "ÿ") failed with a traceback after the work.
+    out = Path(os.fsdecode(os.fsencode(tmp_path) + b"/r\xff"))
+    from drake_car.commands import tyre as tyre_command
+    _refused(capsys, tyre_command.main,
+             ["--tir", str(ROOT / "tests/data/tyres/Sedan_Pac02Tire.tir"), "--out", str(out)],
+             "is not UTF-8", r"r\xff")
+    assert not any(tmp_path.iterdir())

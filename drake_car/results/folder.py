@@ -48,8 +48,15 @@ def check_output_target(out_dir):
     """Refuses an output target that cannot be written as a whole, before any work: a file, a
     foreign non-empty folder, a dangling symbolic link, a name too long for the folder it is
     in (with the temporary names made beside it), an unwritable place, a place inside or
-    around another run's folder in progress (its lock held)."""
+    around another run's folder in progress (its lock held), a name that is not UTF-8."""
     out_dir = Path(out_dir)
+    try:  # the output's files name their folder (README, provenance) in UTF-8 text
+        os.fsencode(out_dir).decode("utf-8")
+    except UnicodeDecodeError as e:
+        shown = repr(os.fsencode(out_dir))[2:-1]  # its bytes, the odd one as \\xNN
+        raise OutputError(f"--out {shown}: byte {e.start} of the name is not UTF-8; the "
+                          "output's files name their folder in UTF-8 text: choose a UTF-8 "
+                          "name") from None
     if out_dir.is_symlink() and not out_dir.exists():
         raise OutputError(f"--out {out_dir}: a dangling symbolic link (to "
                           f"{os.readlink(out_dir)}); remove it or choose another folder")
