@@ -219,19 +219,58 @@ def describe(error):
     return one_line(error)
 
 
+class _GuardedStdout:
+    """Standard output that keeps its first write error (``failed``) instead of raising it
+    into the work: a full disk or a closed pipe behind stdout is not the run's failure."""
+
+    def __init__(self, stream):
+        self.stream, self.failed = stream, None
+
+    def _guard(self, call, *args):
+        if self.failed is None:
+            try:
+                return call(*args)
+            except OSError as e:
+                self.failed = e
+                with contextlib.suppress(Exception):  # nothing more reaches the lost stream,
+                    os.dup2(os.open(os.devnull, os.O_WRONLY), self.stream.fileno())  # not even
+                    # the interpreter's last flush (which would print a traceback)
+        return None
+
+    def write(self, text):
+        self._guard(self.stream.write, text)
+        return len(text)
+
+    def flush(self):
+        self._guard(self.stream.flush)
+
+    def __getattr__(self, name):
+        return getattr(self.stream, name)
+
+
 def run_main(main, argv=None):
     """Runs ``main(argv)``: the input is wrong, the run failed, or the machine refused (an OS
     error) -> one line on stderr, exit 2; Ctrl-C -> exit 130 (one line: the interrupt's
-    message where it has one, e.g. what a sweep kept and how to finish it)."""
+    message where it has one, e.g. what a sweep kept and how to finish it). Standard output
+    that cannot be written (a full disk behind it: one line, exit 1; a reader that stopped
+    reading, ``| head``: nothing) does not stop the work."""
     started()  # Ctrl-C while the command's module was imported: handled in drake_car.commands
+    out = sys.stdout = _GuardedStdout(sys.stdout)
     try:
         main(argv)
+        out.flush()
     except (InputError, RunFailed, OSError) as e:
         print(f"error: {describe(e)}", file=sys.stderr)
         raise SystemExit(2) from None
     except KeyboardInterrupt as e:
         print(f"interrupted: {one_line(e)}" if str(e) else "interrupted", file=sys.stderr)
         raise SystemExit(130) from None
+    finally:
+        sys.stdout = out.stream
+    if out.failed is not None and not isinstance(out.failed, BrokenPipeError):
+        print(f"error: standard output: {describe(out.failed)}; the command finished and "
+              "wrote its output: only what it printed there is lost", file=sys.stderr)
+        raise SystemExit(1)
 
 
 def check_out(args, kept=()):
