@@ -1,5 +1,7 @@
 """How a result says it was made (``results.provenance``): the command as a user calls it again."""
 
+import shlex
+import sys
 from pathlib import Path
 
 import drake_car
@@ -23,3 +25,14 @@ def test_provenance_records_the_command_and_the_code():
     info = provenance(extra_value=1)
     assert info["command"] and info["extra_value"] == 1
     assert set(info) >= {"git_commit", "dirty", "drake", "python", "created_utc"}
+
+
+def test_the_command_is_quoted_as_a_shell_reads_it(monkeypatch):
+    # The recorded command is pasted into a shell to rerun: a --scene_text with a space or a
+    # brace must come back as one argument (it was joined unquoted).
+    argv = ["/x/.venv/bin/drake-car-paper", "--out", "my results", "--scene_text",
+            "{car_file: my car.yaml, tyres: !MagicFormula {tir_file: t.tir}}"]
+    monkeypatch.setattr(sys, "argv", argv)
+    command = provenance()["command"]
+    assert command.startswith("drake-car-paper ")
+    assert shlex.split(command)[1:] == argv[1:]

@@ -7,6 +7,7 @@ import hashlib
 import importlib.metadata
 import os
 import platform
+import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -19,7 +20,8 @@ def provenance(**extra):
     folder (where a scene's relative file names were found), time."""
     commit, dirty = source_checkout()
     info = {
-        "command": " ".join([_program(sys.argv[0])] + sys.argv[1:]),
+        # quoted as a shell reads it: --scene_text 'car_file: my.yaml' pastes back as it ran
+        "command": " ".join([_program(sys.argv[0])] + [shlex.quote(a) for a in sys.argv[1:]]),
         "git_commit": commit,
         "dirty": dirty,
         "drake_car": _installed_version("drake_car"),
