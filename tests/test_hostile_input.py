@@ -431,7 +431,7 @@ def test_an_interrupt_stops_a_run_between_monitor_chunks(signum, raised):
     import threading
 
     from conftest import paper_scene
-    from drake_car.results.folder import terminate_as_exit
+    from drake_car.results.signals import terminate_as_exit
     from drake_car.sim.simulate import SceneRunner
     runner = SceneRunner(paper_scene("a_3", "simulator: {end_time_s: 8.0}"))
     runner.start()

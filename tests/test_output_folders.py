@@ -196,3 +196,32 @@ def test_a_name_that_is_not_utf8_is_refused_before_the_work(tmp_path, capsys):
              ["--tir", str(ROOT / "tests/data/tyres/Sedan_Pac02Tire.tir"), "--out", str(out)],
              "is not UTF-8", r"r\xff")
     assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("command, what, options", [
+    ("ride", "ride study", ["--classes", "A", "--speeds", "60"]),
+    ("design", "design study", ["--quick"]),
+])
+def test_a_second_study_on_one_folder_is_refused_at_once(command, what, options, tmp_path,
+                                                         capsys, monkeypatch):
+    # A study adds runs to its folder and rewrites its results: two at once on one folder
+    # would mix their files (the sweep's own lock is held only while runs are written).
+    import importlib
+    monkeypatch.chdir(ROOT)
+    main = importlib.import_module(f"drake_car.commands.{command}").main
+    out = tmp_path / "study"
+    with folder.study_lock(out, what):
+        _refused(capsys, main, ["--out", str(out), "--quiet", *options],
+                 f"--out {out}: another {what}")
+    assert not out.exists()  # refused before its sweep folder was made
+
+
+def test_renames_that_belong_together_finish_before_a_signal_acts():
+    import signal
+    from drake_car.results.signals import signals_held
+    done = []
+    with pytest.raises(KeyboardInterrupt):
+        with signals_held():
+            os.kill(os.getpid(), signal.SIGINT)
+            done.append("renamed")  # reached: the interrupt waits for the block's end
+    assert done == ["renamed"]

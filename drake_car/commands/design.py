@@ -48,7 +48,8 @@ from drake_car.data import resource
 from drake_car.law.checks import check_input_option
 from drake_car.scene.load import parse_scene_option
 from drake_car.results.files import write_csv, write_json
-from drake_car.results.folder import OutputError, check_output_target, output_folder
+from drake_car.results.folder import (OutputError, check_output_target, output_folder,
+                                      study_lock)
 from drake_car.study.design import jam_cases
 from drake_car.study.design import resolved_runs as design_local
 from drake_car.study.design import analysis as design_analysis
@@ -92,6 +93,13 @@ def main(argv=None):
                    "error the half-step noise sample's (the spec's accuracy section says which "
                    "runs are refined and to what)")
     args = p.parse_args(argv)
+    check_study_folder(args.out)
+    with study_lock(args.out, "design study"):  # one study writes to a folder at a time
+        _study(args)
+
+
+def _study(args):
+    """The study, its runs, analysis and outputs, into ``args.out`` (its lock held)."""
     path, child = parse_scene_option(args.study)
     check_input_option("--study", path, "study file", is_text="YAML text")
     study = load_study(path, child, args.scene_text or None,
@@ -107,7 +115,6 @@ def main(argv=None):
         study, changes = smoke.quick(study)
         print(f"{smoke.NOTE}\nWhat --quick changes: " + "; ".join(changes) + ".",
               file=sys.stderr, flush=True)
-    check_study_folder(args.out)
     began = time.perf_counter()
     parts = {"map": {name: (runs_of.hands_off(study, scene), values)
                      for name, (scene, values) in runs_of.map_scenes(study).items()},
@@ -151,26 +158,36 @@ def main(argv=None):
         design_local.apply(rows, study, noise, set(jam))
     else:
         jam_cases.apply(rows, refined, noise)
-    with output_folder(args.out / "study") as out:
-        summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began,
-                                          noise, design_local.summary(rows, study, set(jam))
-                                          if local
-                                          else jam_cases.summary(refined, rows, study),
-                                          smoke=changes, adapted=adapted)
-        summary["scene_text"] = args.scene_text or None
-        summary["scene"], summary["study_file"] = args.scene, args.study
-        summary["compare"] = design_compare.compare_summary(study, rows, args.compare, noise)
-        write_csv(out / "table.csv", {k: [row[k] for row in rows] for k in rows[0]})
-        write_json(out / "summary.json", summary)
     report = args.out / "report.md"
     partial = args.out / f".report.md.partial-{os.getpid()}"
     try:
-        partial.write_text(design_report.report(summary, figures="study/"))
+        with output_folder(args.out / "study") as out:
+            summary = _analysed(args, study, rows, out, sweep, began, noise, local, jam, refined,
+                                changes, adapted)
+            partial.write_text(design_report.report(summary, figures="study/"))
+            # Never a report beside a study/ it did not come from: a kill between the swap of
+            # study/ and the report's rename leaves none (a rerun reuses every run).
+            report.unlink(missing_ok=True)
         os.replace(partial, report)
     finally:
         partial.unlink(missing_ok=True)
     print(f"{len(rows)} runs ({sweep['reused']} reused, {sweep['failed']} failed); wrote "
           f"{report}")
+
+
+def _analysed(args, study, rows, out, sweep, began, noise, local, jam, refined, changes,
+              adapted):
+    """The study's summary; its table and summary.json written into ``out``."""
+    errors = (design_local.summary(rows, study, set(jam)) if local
+              else jam_cases.summary(refined, rows, study))
+    summary = design_analysis.analyse(study, rows, out, sweep, time.perf_counter() - began,
+                                      noise, errors, smoke=changes, adapted=adapted)
+    summary["scene_text"] = args.scene_text or None
+    summary["scene"], summary["study_file"] = args.scene, args.study
+    summary["compare"] = design_compare.compare_summary(study, rows, args.compare, noise)
+    write_csv(out / "table.csv", {k: [row[k] for row in rows] for k in rows[0]})
+    write_json(out / "summary.json", summary)
+    return summary
 
 
 def _stated(args):

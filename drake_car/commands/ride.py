@@ -30,7 +30,7 @@ from drake_car.study.ride.grid import STRUTS, RideStudy, analysed_from_s, ride_s
 from drake_car.study.ride.report import write_outputs
 from drake_car.sweep.holdings import none_of_these
 from drake_car.sweep.runner import run_sweep
-from drake_car.results.folder import OutputError
+from drake_car.results.folder import OutputError, study_lock
 from drake_car.sweep.store import (
     check_sweep_folder, damage, key_parts, read_status, run_key)
 
@@ -81,6 +81,12 @@ def main(argv=None):
     except ParameterError as e:
         raise ParameterError(OPTIONS.get(e.key, e.key), e.value, e.requirement) from None
     check_sweep_folder(args.out)  # before the scenes (the launch and rack are calibrated)
+    with study_lock(args.out, "ride study"):  # one study writes to a folder at a time
+        _study(args, studies)
+
+
+def _study(args, studies):
+    """The ride runs, their analysis and outputs, into ``args.out`` (its lock held)."""
     scenes = {}
     scene = parse_scene_option(args.scene) if args.scene else None
     for study in studies:

@@ -38,7 +38,7 @@ from pydrake.common.yaml import yaml_load
 
 from drake_car.commands import cli
 from drake_car.results.files import write_json
-from drake_car.results.folder import terminate_as_exit
+from drake_car.results.signals import terminate_as_exit
 from drake_car.results.provenance import provenance
 from drake_car.scene.load import SceneError
 from drake_car.scene.scene import MeshcatLive

@@ -16,6 +16,7 @@ import numpy as np
 
 from drake_car.results.diagram import diagram_overview_dot, diagram_svg
 from drake_car.results.provenance import provenance
+from drake_car.results.signals import signals_held
 
 
 def write_text(path, text):
@@ -53,8 +54,9 @@ def files_into(folder):
     staging.mkdir()
     try:
         yield staging
-        for path in sorted(staging.iterdir()):
-            os.replace(path, folder / path.name)
+        with signals_held():  # all files or none: Ctrl-C or SIGTERM waits for the renames
+            for path in sorted(staging.iterdir()):
+                os.replace(path, folder / path.name)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
 

@@ -19,7 +19,6 @@ import json
 import os
 import re
 import shutil
-import signal
 import tempfile
 import uuid
 from pathlib import Path
@@ -29,6 +28,7 @@ from drake_car.law.errors import InputError
 from drake_car.results.columns import folder_readme
 from drake_car.results.files import write_text
 from drake_car.results.lock import LockHeld, exclusive, holder
+from drake_car.results.signals import terminate_as_exit
 
 
 class OutputError(InputError):
@@ -268,22 +268,16 @@ def folder_lock(lock_path, target, what="run"):
 
 
 @contextlib.contextmanager
-def terminate_as_exit(*, once=False):
-    """SIGTERM raises SystemExit here, so ``finally`` blocks clean up as on Ctrl-C; ``once``:
-    a second SIGTERM during that cleanup is ignored."""
-    def handler(signum, frame):
-        if once:
-            signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        raise SystemExit(128 + signum)
-    try:
-        previous = signal.signal(signal.SIGTERM, handler)
-    except ValueError:  # not the main thread: leave the signal alone
+def study_lock(out, what):
+    """Held while a study command (``what``, e.g. "design study") works in its folder ``out``,
+    one that is added to (its sweep's runs) and whose results are rewritten: a second one on
+    the same folder is refused at once (OutputError), not left to mix its files with the
+    first's. The lock file lies beside ``out`` and goes with the lock."""
+    out = Path(out).absolute()
+    with _os_errors_named(out, out.parent):
+        out.parent.mkdir(parents=True, exist_ok=True)
+    with folder_lock(out.parent / f".{out.name}.study.lock", out, what=what):
         yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 @contextlib.contextmanager

@@ -193,7 +193,7 @@ def deferred_signals():
     KeyboardInterrupt crosses C++ as an exception where it can be lost (a run once finished
     and exited 0 after SIGINT). The runner stops after the chunk it is in; the signal is then
     raised again with the handlers that were there before (KeyboardInterrupt, or
-    ``results.folder.terminate_as_exit``'s SystemExit)."""
+    ``results.signals.terminate_as_exit``'s SystemExit)."""
     caught = []
     # A signal the process ignores stays ignored: noted, it would stop the run early and, its
     # handler restored, be raised into nothing, leaving a run cut short that looks finished
