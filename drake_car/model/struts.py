@@ -58,7 +58,7 @@ def make_strut_friction(plant, car, declarations, law: StrutFrictionParameters, 
     The right strut is the left's mirror image (``mirrored``): eq. (4)'s vector form adds the
     reaction's force (a polar vector) to its moment (an axial vector), so in one frame for both
     struts it gives the left |M/d + F| and the right, in the left's terms, |F - M/d|. That broke
-    the mirror of the whole car (issue 32): driving straight from a symmetric state, the
+    the mirror of the whole car: driving straight from a symmetric state, the
     struts' normal forces differed by 0.23 N of 1414 N at the first step, the rotation pairs
     then changed phase at different steps, and a_3's rods were 64 µm apart in the launch; case
     b of set 3 ended 3.5 mm away from case a mirrored. The left strut is the reference (its

@@ -6,9 +6,9 @@ parallel to its start.
 The tolerances (a run outside one is not the manoeuvre it says it is):
 - speed at place a (the mean over the 0.3 s before phase III: the paper study's place a,
   ``study.paper.claims.place_values``): within ``SPEED_TOLERANCE_KPH`` = 1 km/h of the
-  timeline's speed (issue 31's target);
+  timeline's speed;
 - the track's lateral shift over phase III: within ``SHIFT_TOLERANCE_M`` = 0.05 m of the lane
-  change's ``shift_m`` (issue 31's target), to the left in case a, to the right in case b;
+  change's ``shift_m``, to the left in case a, to the right in case b;
 - the heading at the end of phase III: parallel to the start within the angle that would move
   the car sideways by the shift's tolerance over the length of one more lane change,
   ψ_tol = SHIFT_TOLERANCE_M / (v · steer_s): 1.25 mrad = 0.072° at 60 km/h and 2.4 s. (The

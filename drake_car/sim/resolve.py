@@ -17,7 +17,7 @@ translation pairs by default), by ``events``:
   capacity). Cheaper, but blind where the step cannot see the margin: at 1 ms the fast scheme
   throws every strut break-away of the paper's study through the band in one step, while at
   0.25 ms a_2's return break-aways creep through it over 45-50 steps, and that return takes
-  another branch from 0.125 ms on (12.22 instead of 11.72 mm, issue 32).
+  another branch from 0.125 ms on (12.22 instead of 11.72 mm).
 
 Where a window starts (``window_start``): at a saved state (a checkpoint: a chunk start at
 which every selected pair is static) ``lead_s`` before the event, and before every slip of a

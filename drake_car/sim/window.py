@@ -153,7 +153,7 @@ def agreement_band(tolerance, default):
     of the ``default`` one. A looser tolerance loosens the error a rest position may carry, not
     what counts as agreeing: a_2 at 2e-4 m rests at 6.4769 / 6.4736 / 6.4791 mm at 1 / 0.5 /
     0.25 ms (3.3 and 5.5 µm apart, within a tenth of 2e-4 m, not of the default 2e-5 m) and at
-    5.971-5.979 mm from 0.125 ms on, one stop fewer (issue 32)."""
+    5.971-5.979 mm from 0.125 ms on, one stop fewer."""
     return NOISE * min(tolerance, default)
 
 

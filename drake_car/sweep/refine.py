@@ -19,7 +19,7 @@ outcomes reached, in one more sweep, gives each outcome's solver error there to 
 εr: |x(2 εr) - x(εr)|. It is the floor below which the step's differences need not shrink: an
 outcome whose last two differences are within it has converged as far as the step can take it
 (``classify``'s floor), and its budget is its step error plus its solver error; ``limited_by``
-names the larger. Measured where the value is reported: on b_3's claim-2 value (issue 32) the
+names the larger. Measured where the value is reported: on b_3's claim-2 value the
 twin moved it by 0.3, 8.2 and 0.2 µm at 1, 0.5 and 0.25 ms, so a coarser step's would not do.
 
 The loop (``refine``): the first round runs every scene at h, h/2 and h/4 (one sweep); each

@@ -15,7 +15,7 @@ from drake_car.sim.simulate import estimate_wall_s
 # A --grid product's size, checked before it is expanded: announced (with its estimate) past
 # GRID_ANNOUNCE_SCENES, refused past GRID_MAX_SCENES unless --large. Expanding costs about
 # GRID_SCENE_S and GRID_SCENE_BYTES a scene [EST: 28 ms and 15 kB (peak RSS growth) a scene,
-# measured for a 100-scene grid of paper_study a_1 on a loaded 2-core machine; issue 25 found
+# measured for a 100-scene grid of paper_study a_1 on a loaded 2-core machine; a review found
 # ~7 ms a scene, 10^6 scenes in ~2 h].
 GRID_ANNOUNCE_SCENES = 1_000
 GRID_MAX_SCENES = 20_000

@@ -1,5 +1,5 @@
 """A Dask scheduler's address checked before Dask's Client is made: its form at once, then
-its handshake under a timeout (issue 25: a silent listener or an HTTP server kept the Client
+its handshake under a timeout (a silent listener or an HTTP server kept the Client
 waiting forever; ``foo://`` gave a 20 s stall and a stray traceback)."""
 
 import asyncio

@@ -36,7 +36,7 @@ Two numerical schemes (``scheme``):
       The saturated damper gives exactly -μk·S·sgn(v_{k+1}) while |v_{k+1}| stays above
       e/Kd (≤ Δv), and catches a velocity reversal inside the step instead of overshooting it.
 
-    Why these slopes (issue 19, measured on the 1-DOF rig, 30 kg, N = 3 kN, 1 ms): the creep
+    Why these slopes (measured on the 1-DOF rig, 30 kg, N = 3 kN, 1 ms): the creep
     under a load held below μs·N is a first-order flow, v = Δv·β⁻¹((F/N - μ1)/(μs - μ1)), slow
     against 1 ms (Δmax/Δv = 50 ms). The previous choice, the slopes' upper bounds
     Kp = 1.5·μs·S/Δmax and Kd = 1.5·(μs + μ1)·S/Δv, is a W-method whose surplus Kd acts as an

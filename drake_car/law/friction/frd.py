@@ -25,7 +25,7 @@ A mirrored strut (``mirrored``): eq. (4)'s vector form adds a polar vector (F) t
 car, it gives the left strut |M/d + F| and the right strut, in the left's terms, |F - M/d|: a
 car whose right strut is not the mirror image of its left (measured on the paper's car at
 rest: N 1413.81 N left, 1413.57 N right, 1.6e-4 of N, in a state symmetric to 3e-15 m; it
-broke the mirror of the study's a and b runs, issue 32). A strut that is the mirror image of a
+broke the mirror of the study's a and b runs). A strut that is the mirror image of a
 reference strut is evaluated in the reference's reflected frame: its moment enters with the
 opposite sign. The other two forms hold only |F|, |M| and û×M (a polar vector): the sign
 leaves them unchanged, bit for bit.

@@ -17,7 +17,7 @@ MAX_SLOPE = 0.3
 # A road that is not a road: profiles are bounded to ±1 m of height and 10 km of length.
 MAX_HEIGHT_M = 1.0
 MAX_LENGTH_M = 1e4
-# Samples of a !SampledProfile: 10^7 took ~30 min and 17 GB to load and settle (issue 25, main
+# Samples of a !SampledProfile: 10^7 took ~30 min and 17 GB to load and settle (main
 # f5ab02c), i.e. ~0.2 ms and ~1.7 kB a sample [EST: scaled from that one measurement]; 10^5
 # samples (~20 s, ~170 MB; 1 m stations over 100 km, or 1 cm over 1 km) bound that. A scene
 # file's size limit (scene.guard) holds about as many written out.

@@ -7,7 +7,7 @@ a spring to a fixed anchor and, if the joint is inclined, gravity.
 The belt moves at a constant speed V. The plant runs in the belt's frame, which is inertial:
 the belt is welded there and the spring's anchor moves at -V, so the block's position from the
 anchor is x = q + V t (q the joint's position, q̇ the velocity relative to the belt): a belt
-driven at exactly V. (Before issue 32 the belt was a 100 kg body held at V by a stiff SAP
+driven at exactly V. (Before, the belt was a 100 kg body held at V by a stiff SAP
 servo. SAP then solved block and belt as one problem, warm-started at the last step's
 velocities, and stopped before iterating when the guess met its relative tolerance, 1e-6 of
 the problem's momentum, the belt's included (``systems.sap_pacer``): a net force on the block

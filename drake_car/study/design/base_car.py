@@ -1,4 +1,4 @@
-"""The design study's manoeuvre on the user's car (issue 31): the shipped study's base scene
+"""The design study's manoeuvre on the user's car: the shipped study's base scene
 gives the shipped Escort's launch (3 s) and lane-change rack (its calibration), which another
 car does not follow to 60 km/h or moves by another shift than 3.7 m. Where the base car is not
 the shipped one and the user left the shipped values in place, the launch is the one its drive

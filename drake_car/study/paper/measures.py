@@ -120,7 +120,7 @@ def _judged(m):
         # A count is exact at each step: decided when converged. Any other number is decided
         # when its margin exceeds its whole budget: the error of a converged value, or, where
         # the values did not converge at first order, the spread of its last three steps (or
-        # of its windows' last three levels) plus the solver's (issue 32: b_3's claim-2 shift
+        # of its windows' last three levels) plus the solver's (b_3's claim-2 shift
         # 7.336 / 7.333 / 7.330 mm against 0.1 mm, differences of 3 µm that do not shrink).
         spread = m["route"] == "local" or len(m["values"] or []) >= 3
         m["decided"] = (bool(m["converged"]) if m["unit"] == "count"

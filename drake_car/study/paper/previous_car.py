@@ -1,5 +1,5 @@
 """The main job's verdicts on the previous version's car, as recorded, and why a verdict
-changed: the report's comparison (issue 12's rerun of the paper's study on the credible car).
+changed: the report's comparison (the rerun of the paper's study on the credible car).
 It speaks of the shipped car on its shipped tyre, with the shipped study's drive, timeline and
 friction sets: the report has it only for a study of that car (``applies``)."""
 
@@ -10,7 +10,7 @@ from drake_car.study.paper.sets import friction_of
 
 # The main job's verdicts on the previous version's car (commit a102747: both front wheels'
 # rotation prescribed, no anti-roll bar, E90-derived front geometry with 75 % pro-lift), from
-# its summary.json; and why a verdict changed, measured on the change (issue 12).
+# its summary.json; and why a verdict changed, measured on the change.
 PREVIOUS_CAR = {1: (False, "set 3 56.934 mm"), 2: (True, "12.236 mm"), 3: (False, "4.886 mm"),
                 4: (True, "0.531 mm"), 5: (False, "4.50 deg"), 6: (False, "0 times")}
 WHY_CHANGED = {

@@ -1,4 +1,4 @@
-"""The ride study's runs (issue 23): the car driving straight at constant speed over an ISO
+"""The ride study's runs: the car driving straight at constant speed over an ISO
 8608 road, for road classes × speeds × strut friction μs, each scene also at half the step (its
 numerical error, run by run). Pure: scenes in, scenes out; the sweep runs them.
 

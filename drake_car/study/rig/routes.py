@@ -1,5 +1,5 @@
 """The friction rig's closed-form cases (``study.rig.closed_forms``) on the two routes to a
-converged answer (issue 32, item 3): the **local** route (the run at its step, each slip of the
+converged answer: the **local** route (the run at its step, each slip of the
 block resolved in a window at halved steps, ``sim.resolve`` through ``run_rig(resolve=...)``)
 and the **global** route (the whole run at h, h/2, h/4, ... until every reading has
 converged, ``sim.convergence.classify``, or the finest step), each reading with its error, and
