@@ -339,3 +339,32 @@ def test_handling_on_a_chrono_tyre_reports_the_tyre_and_what_changed(tmp_path):
     assert tyre["load_note"] is None and not tyre["shipped"]
     for r in rows.values():
         assert r["shipped"] is None or math.isfinite(r["shipped"]), r
+
+
+def test_commonroad_s_model_breaking_down_ends_its_series_not_the_study(monkeypatch):
+    """CommonRoad's MB divides a wheel's slip by its speed, zero when the wheel rolls backwards
+    (the car spun in it): on a VW Vanagon's ramp steer it raised ZeroDivisionError at 33.7 s
+    and the handling command ended in a traceback. Now its series stops there (NaN after, as
+    far as it ran kept) and the study goes on; the report says where."""
+    commonroad_or_skip()
+    import vehiclemodels.vehicle_dynamics_mb as mb_module
+    from drake_car.study.handling import report as handling_report
+    real, dt, speed = mb_module.vehicle_dynamics_mb, 1e-3, 16.667
+    where = speed * (4.0 + 0.5)  # its x after simulate_mb's 4 s of settling and 0.5 s more
+
+    def breaking(x, u, p):  # its own model, until the car has driven that far
+        if x[0] > where:
+            raise ZeroDivisionError("float division by zero")
+        return real(x, u, p)
+    monkeypatch.setattr(mb_module, "vehicle_dynamics_mb", breaking)
+    t = np.linspace(0.0, 1.0, 101)
+    mb = crosscheck.simulate_mb(t, np.radians(1.0) * (t > 0.2), np.full_like(t, speed),
+                                p=crosscheck.parameters(3), dt=dt)
+    assert mb["broke_down_s"] == pytest.approx(0.5, abs=0.01)  # its speed held within 2 %
+    ran = t <= mb["broke_down_s"]
+    for channel in ("yaw_rate_radps", "ay_mps2", "roll_rad", "speed_mps"):
+        assert np.all(np.isfinite(mb[channel][ran])) and np.all(np.isnan(mb[channel][~ran]))
+    said = handling_report._broke_down_lines({"broke_down": {"steady_state": {
+        "t_s": 33.68, "steer_deg": 5.18, "ay_mps2": 5.75}}})
+    assert "could not go on** in the ramp steer at 33.68 s" in said[0]
+    assert handling_report._diff(1.0, float("nan")) is None

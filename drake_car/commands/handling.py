@@ -10,8 +10,9 @@ continuous ramp steer at 60 km/h; step_steer: ISO 7401 step steer at 60 km/h). W
   budget.csv, budget.json, budget_series.csv, budget.png
                   the understeer gradient split into named terms (drake_car/study/handling/understeer.py)
   crosscheck/     CommonRoad's multi-body model of the car (its parameter set 1, Ford Escort;
-                  2, BMW 320i; none for another car) on our runs'
-                  road-wheel steer at our speed: ramp.csv, step.csv, crosscheck.json,
+                  2, BMW 320i; 3, VW Vanagon, known by mass and front track; none for another
+                  car) on our runs' road-wheel steer at our speed, as far as it runs (where
+                  the car spins in it, the report says so): ramp.csv, step.csv, crosscheck.json,
                   crosscheck_ramp.png, crosscheck_step.png
   steering.csv    the rack-to-road-wheel relation (chassis fixed) the understeer gradient uses
   tyre/           the tyre the car runs on, as drake-car-tyre writes it (curves.csv,

@@ -86,7 +86,11 @@ def handling_study(scenes, fit_range, *, crosscheck_why=None, progress=True,
                           + ", by total mass and front track)")
     if crosscheck_why is None:
         started = time.perf_counter()
-        result["crosscheck"] = cross_check(runs, result, fit_range, vehicle)
+        try:
+            result["crosscheck"] = cross_check(runs, result, fit_range, vehicle)
+        except crosscheck.BrokeDown as e:  # before our runs' first steer: nothing to compare
+            result["crosscheck"] = {"skipped": f"CommonRoad's model ({vehicle[1]}) could not "
+                                               f"hold the car straight {e}"}
         walls["cross-check"] = time.perf_counter() - started
     else:
         result["crosscheck"] = {"skipped": crosscheck_why}
@@ -245,7 +249,10 @@ def cross_check(runs, result, fit_range, vehicle=(1, "Ford Escort")):
     roll = crosscheck.roll_model(p)
     our_roll_stiffness = roll_stiffness(car)
     sprung = car.mass.total_mass_kg - car.parts_mass_kg()
+    ended = {name: _broke_down_at(runs[name].history, keep, mb, runs[name].scene.car)
+             for name, (keep, mb) in windows.items() if mb["broke_down_s"] is not None}
     out.update(
+        broke_down=ended,
         ramp=mb_ss, ramp_no_camber_sign=mb_ss_no_camber, step=mb_st, chain=chain,
         reconciliation=reconciliation, roll_model=roll, our_inertia=inertia,
         our_roll_stiffness=our_roll_stiffness, our_sprung_mass_kg=sprung,
@@ -267,6 +274,17 @@ def roll_stiffness(car):
     tyre_f, tyre_r = k_t * f.track_m ** 2 / 2, k_t * r.track_m ** 2 / 2
     return {"suspension_front_Nm_per_rad": front, "suspension_rear_Nm_per_rad": rear,
             "with_tyres_Nm_per_rad": 1 / (1 / front + 1 / tyre_f) + 1 / (1 / rear + 1 / tyre_r)}
+
+
+def _broke_down_at(h, keep, mb, car):
+    """Where CommonRoad's model stopped in a run (``crosscheck.BrokeDown``): the time and our
+    car's road-wheel steer and lateral acceleration there (its channels are NaN after it)."""
+    t = h["t"][keep]
+    i = min(int(np.searchsorted(t, mb["broke_down_s"])), len(t) - 1)
+    g = handling.cog_motion(h, whole_car_cog_to_front_m(car), car.mass.total_mass_kg)
+    return {"t_s": float(mb["broke_down_s"]),
+            "steer_deg": float(np.degrees(handling.road_wheel_steer_rad(h)[keep][i])),
+            "ay_mps2": float(g["ay"][keep][i])}
 
 
 def _paired(h, keep, mb, car):

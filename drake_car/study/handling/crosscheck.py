@@ -80,14 +80,28 @@ def _camber_sign_off():
         tire_model.sign = sign
 
 
+class BrokeDown(Exception):
+    """CommonRoad's model cannot go on at ``time`` (a wheel rolling backwards divides by its
+    zero speed, a state that is no number): the car has spun in it."""
+
+    def __init__(self, time, why):
+        super().__init__(f"at {time:.3f} s: {why}")
+        self.time = time
+
+
 def _rk4(rhs, y, t0, steps, dt, record=None):
     t = t0
     for _ in range(steps):
-        k1 = rhs(t, y)
-        k2 = rhs(t + dt / 2, y + dt / 2 * k1)
-        k3 = rhs(t + dt / 2, y + dt / 2 * k2)
-        k4 = rhs(t + dt, y + dt * k3)
+        try:
+            k1 = rhs(t, y)
+            k2 = rhs(t + dt / 2, y + dt / 2 * k1)
+            k3 = rhs(t + dt / 2, y + dt / 2 * k2)
+            k4 = rhs(t + dt, y + dt * k3)
+        except (ArithmeticError, ValueError) as e:
+            raise BrokeDown(t, f"{type(e).__name__}: {e}") from None
         y = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        if not np.all(np.isfinite(y)):
+            raise BrokeDown(t, "its state is no longer finite")
         t += dt
         if record is not None:
             record(t, y)
@@ -100,8 +114,10 @@ def simulate_mb(t, steer_rad, speed_mps, *, p=None, dt=1e-3, settle_s=4.0, steer
     ``speed_mps`` (both sampled at ``t``). Returns a history in our channels' names and ISO
     signs: t, steer_rad (its realised δ), yaw_rate_radps, ay_mps2 (the whole car's CoG: Σ of
     the tyre forces over m), ay_sprung_mps2, and at its sprung mass's CoG roll_rad,
-    sideslip_rad, speed_mps, ax_mps2. ``camber_sign``: False switches its tyres' camber shifts
-    off for the run too (a diagnostic: how much of its behaviour they make)."""
+    sideslip_rad, speed_mps, ax_mps2; broke_down_s: where the model could not go on
+    (``BrokeDown``; its channels NaN from there), else None. ``camber_sign``: False switches its
+    tyres' camber shifts off for the run too (a diagnostic: how much of its behaviour they
+    make)."""
     from vehiclemodels.init_mb import init_mb
     from vehiclemodels.vehicle_dynamics_mb import vehicle_dynamics_mb
     p = p or parameters()
@@ -131,12 +147,20 @@ def simulate_mb(t, steer_rad, speed_mps, *, p=None, dt=1e-3, settle_s=4.0, steer
     steps = int(math.ceil((t[-1] - t[0]) / dt - 1e-9))
     grid_t, grid_y = [t[0]], [y.copy()]
     record = lambda time, yy: (grid_t.append(time), grid_y.append(yy.copy()))  # noqa: E731
+    ended = None
     with contextlib.nullcontext() if camber_sign else _camber_sign_off():
-        _rk4(rhs, y, t[0], steps, dt, record)
+        try:
+            _rk4(rhs, y, t[0], steps, dt, record)
+        except BrokeDown as e:  # what it ran before is kept; after it, no numbers (NaN)
+            ended = e.time
         grid = np.array(grid_y)
-        states = np.column_stack([np.interp(t, np.array(grid_t), grid[:, j])
-                                  for j in range(grid.shape[1])])
-        derivatives = np.array([rhs(time, s) for time, s in zip(t, states)])
+        reached = (np.ones(len(t), bool) if ended is None  # the grid's end may round short
+                   else t <= grid_t[-1] + 0.5 * dt)
+        states = np.full((len(t), grid.shape[1]), np.nan)
+        states[reached] = np.column_stack([np.interp(t[reached], np.array(grid_t), grid[:, j])
+                                           for j in range(grid.shape[1])])
+        derivatives = np.full_like(states, np.nan)
+        derivatives[reached] = [rhs(time, s) for time, s in zip(t[reached], states[reached])]
     r, vx, vy = states[:, YAW_RATE], states[:, VX], states[:, VY]
     ay_s = derivatives[:, VY] + r * vx
     ay_total = (p.m_s * ay_s + p.m_uf * (derivatives[:, 15] + r * vx)
@@ -144,7 +168,7 @@ def simulate_mb(t, steer_rad, speed_mps, *, p=None, dt=1e-3, settle_s=4.0, steer
     return {"t": t, "steer_rad": -states[:, DELTA], "yaw_rate_radps": -r, "ay_mps2": -ay_total,
             "ay_sprung_mps2": -ay_s, "roll_rad": states[:, ROLL],
             "sideslip_rad": -np.arctan2(vy, vx), "speed_mps": np.hypot(vx, vy),
-            "ax_mps2": derivatives[:, VX] - r * vy}
+            "ax_mps2": derivatives[:, VX] - r * vy, "broke_down_s": ended}
 
 
 # -- its own numbers: loads, tyre, single track, roll ---------------------------------------

@@ -18,7 +18,11 @@ def _fixed(value, digits=3):
 
 
 def _diff(ours, theirs):
+    """ours against theirs in %; None where either is missing or no number (NaN: CommonRoad's
+    model stopped before it), or theirs is 0."""
     if ours is None or theirs is None or theirs == 0:
+        return None
+    if not (math.isfinite(ours) and math.isfinite(theirs)):
         return None
     return 100.0 * (ours - theirs) / abs(theirs)
 
@@ -170,6 +174,20 @@ def _budget_section(budget, m):
     return lines
 
 
+def _broke_down_lines(cc):
+    """Where CommonRoad's model could not go on (a wheel rolling backwards: the car spun in
+    it), and that it is compared only before that."""
+    runs = {"steady_state": "ramp steer", "step_steer": "step steer"}
+    said = [f"in the {runs[name]} at {e['t_s']:.2f} s (our car there: road-wheel steer "
+            f"{e['steer_deg']:.2f} deg, a_y {e['ay_mps2']:.2f} m/s²)"
+            for name, e in cc.get("broke_down", {}).items()]
+    if not said:
+        return []
+    return [f"**CommonRoad's model could not go on** {'; '.join(said)}: the car spun in it "
+            "(a wheel rolling backwards divides its slip by zero). It is compared below only "
+            "on what it ran before that; its channels are empty after it.", ""]
+
+
 def _crosscheck_section(result):
     cc = result["crosscheck"]
     if "skipped" in cc:
@@ -279,11 +297,14 @@ def _crosscheck_section(result):
         f"the front axle) and at the point on the ground below our CoG ({p['a']:.3f} m). Both "
         "understeer gradients here use the wheels' angle (ours without roll steer). "
         "Differences over 10 % are attributed in the last column.", "",
+        *_broke_down_lines(cc),
         "| quantity | drake_car | CommonRoad MB | difference | attribution |",
         "|---|---|---|---|---|"]
     for name, a, b, why in rows:
         d = _diff(a, b)
-        note = why if d is None or abs(d) > 10 else "within 10 %"
+        nan = any(isinstance(x, float) and math.isnan(x) for x in (a, b))
+        note = ("no value: CommonRoad's model stopped before it" if nan
+                else why if d is None or abs(d) > 10 else "within 10 %")
         lines.append(f"| {name} | {_f(a, 4)} | {_f(b, 4)} | "
                      f"{'–' if d is None else f'{d:+.0f} %'} | {note} |")
     lines += [
