@@ -94,6 +94,18 @@ def test_measures_decide_as_the_claims(variant):
         assert all(holds(m) for m in rows if m["decides"]) == claim["reproduced"], claim["claim"]
 
 
+def test_claim_two_carries_what_the_car_does_between_the_places_without_friction():
+    # Its context row: set 1's largest |Δd(b) - Δd(a)|, from its rods' place values.
+    study = study_of()
+    table = at_one_step(values_of(study))
+    two = claim_measures(table, roles_of(study))[1]
+    alone = [m for m in two if m["name"].startswith("the same without dry friction")]
+    assert len(alone) == 1 and not alone[0]["decides"]
+    expected = max(abs(table[(n, f"dd_{s}_b_m")]["value"] - table[(n, f"dd_{s}_a_m")]["value"])
+                   for n in ("a_1", "b_1") for s in ("left", "right"))
+    assert alone[0]["value"] == pytest.approx(expected)
+
+
 def test_place_windows_are_what_place_values_averages():
     h = study_of()["a_2"].columns
     windows = place_windows(h, TIMELINE)

@@ -271,3 +271,26 @@ def test_a_dry_run_s_path_beyond_its_tolerance_is_said_not_judged():
     text = moved.describe()
     assert text.endswith("beyond it, with dry strut friction, which moves the path (not "
                          "judged)") and "frictionless" not in text, text
+
+
+def _claim_two_rows(set_3_shift_m, set_1_shift_m, error_m):
+    """Claim 2's rows as study.paper.measures makes them: the deciding one and its context."""
+    from drake_car.study.paper.report_sections import WITHOUT_DRY
+    row = {"unit": "m", "error": error_m, "converged": True}
+    return [row | {"name": "largest |Δd(b) - Δd(a)| with set 3", "value": set_3_shift_m,
+                   "decides": True, "relation": ">", "threshold": 1e-4},
+            row | {"name": f"{WITHOUT_DRY} (set 1)", "value": set_1_shift_m,
+                   "decides": False, "relation": None, "threshold": None}]
+
+
+def test_a_new_position_the_car_takes_without_friction_is_not_friction_s():
+    # A VW Vanagon (CommonRoad set 3) still surging from its launch at place a: set 3's rods
+    # moved 2.987 mm between the places, the lubricated set's 3.540 mm. The claim's "yes" is
+    # true to its words but says nothing of friction; the report must say so, with both.
+    from drake_car.study.paper.report_sections import not_friction
+    said = not_friction(_claim_two_rows(2.987e-3, 3.540e-3, 0.0))
+    assert "not friction's doing" in said and "3.540 mm" in said and "(set 1)" in said
+    # The shipped Escort: 7.329 mm against the lubricated 2.05 mm, errors 0.05 mm: friction's.
+    assert not_friction(_claim_two_rows(7.329e-3, 2.05e-3, 5e-5)) == ""
+    # Apart by the threshold (0.1 mm) but not by it plus both errors: not shown to be friction's.
+    assert not_friction(_claim_two_rows(2.30e-3, 2.15e-3, 5e-5)) != ""

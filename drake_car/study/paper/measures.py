@@ -83,6 +83,12 @@ def claim_measures(table: dict, roles: dict):
                 m("the same: steady (constant acceleration)", ["unload_steady_N"], [a3])]
         two = [m(f"largest |Δd(b) - Δd(a)| with set {high}", ["shift_left_m", "shift_right_m"],
                  of[high], ">", T)]
+        lubricated = [k for k in sets.numbers if not _set(roles, k).dry]
+        alone = [n for k in lubricated for n in of[k]]
+        if alone and all((n, f"dd_{s}_{p}_m") in table for n in alone for s in SIDES
+                         for p in "ab"):  # what the car does between the places by itself
+            two.append(_shift_between_places(
+                f"the same without dry friction ({numbers_text(lubricated)})", table, alone))
     three = [m("largest change of Δd_left - Δd_right from a to b", ["lr_change_m"], everyone,
                "<=", T),
              m("largest steady change of the front left-right load split, of the corner load",
@@ -108,6 +114,38 @@ def claim_measures(table: dict, roles: dict):
             if count["decided"] and count["value"] == 0 and peak["error"] is not None:
                 count["decided"] = peak["margin"] > peak["error"]
     return [one, two, three, four, five, six]
+
+
+def _shift_between_places(name, table, runs):
+    """Context: the largest |Δd(b) - Δd(a)| over ``runs`` and sides, from their rods' place
+    values (dd_*_a_m, dd_*_b_m); its error the two places' budgets summed."""
+    best = None
+    for run in runs:
+        for side in SIDES:
+            a, b = table[(run, f"dd_{side}_a_m")], table[(run, f"dd_{side}_b_m")]
+            value = abs(b["value"] - a["value"])
+            if best is None or value > best["value"]:
+                errors = [r["error"] for r in (a, b)]
+                best = {
+                    "name": name, "value": value, "unit": "m", "relation": None,
+                    "threshold": None, "runs": [run], "outcomes": [f"dd_{side}_a_m",
+                                                                   f"dd_{side}_b_m"],
+                    "decides": False,
+                    "error": None if None in errors else sum(
+                        r["error"] + (r.get("solver_error") or 0.0) for r in (a, b)),
+                    "converged": None if None in (a["converged"], b["converged"])
+                    else bool(a["converged"] and b["converged"]),
+                    "steps_s": b["steps_s"],
+                    "values": ([abs(y - x) for x, y in zip(a["values"], b["values"])]
+                               if a["values"] and b["values"] else b["values"]),
+                    "route": b.get("route"), "finest_step_s": b.get("finest_step_s"),
+                    "limited_by": b.get("limited_by")}
+    return _judged(best)
+
+
+def _set(roles, number):
+    """The FrictionSet numbered ``number`` in ``roles`` (name -> (case, FrictionSet))."""
+    return next(f for _, f in roles.values() if f.number == number)
 
 
 def _judged(m):

@@ -46,8 +46,8 @@ def claims_table(s):
                        "numerical error", "figure"), "|---|---|---|---|---|---|"]
     for i, (c, rows) in enumerate(zip(s["claims"], s["deciding_numbers"]), start=1):
         deciding = [r for r in rows if r["decides"]]
-        number = "; ".join(f"{r['name']}: **{quantity(r['value'], r['unit'])}**, needs "
-                           f"{threshold_text(r)}" for r in deciding) or "-"
+        number = ("; ".join(f"{r['name']}: **{quantity(r['value'], r['unit'])}**, needs "
+                            f"{threshold_text(r)}" for r in deciding) or "-") + not_friction(rows)
         error = "; ".join(error_text(r) for r in deciding) or "-"
         lines.append(table_row(i, c["claim"], verdict_text(c, s), number, error,
                                links(i, s["figures"]) if deciding else "-"))
@@ -57,6 +57,25 @@ def claims_table(s):
         "acceleration ends to the lane change, the stretch in which the rods return after the "
         "speed-up (in the paper, all but set 3's). The paper counts that return to its phase "
         "I; the figures here start phase II where the speed-up ends.", ""]
+
+
+WITHOUT_DRY = "the same without dry friction"  # claim 2's context row (study.paper.measures)
+
+
+def not_friction(rows):
+    """Claim 2's "new position" is friction's only where the car without dry friction does not
+    move as much between the same places (a car still surging from its launch at place a moves
+    its rods there by itself): a warning, with both numbers, where it does; else ""."""
+    deciding = next((r for r in rows if r["decides"]), None)
+    alone = next((r for r in rows if r["name"].startswith(WITHOUT_DRY)), None)
+    if deciding is None or alone is None or deciding["threshold"] is None:
+        return ""
+    budget = (deciding["error"] or 0.0) + (alone["error"] or 0.0)
+    if deciding["value"] - alone["value"] > deciding["threshold"] + budget:
+        return ""
+    return (f" — **not friction's doing**: {alone['name'][len('the same '):]} the rods move "
+            f"{quantity(alone['value'], alone['unit'])} between the same places (the car is "
+            "not yet at rest at place a), within the threshold and the errors of this number")
 
 
 def numbers_table(s):
