@@ -13,8 +13,9 @@ import numpy as np
 from drake_car.scene.borrowed import drive_limit, drive_limit_words
 from drake_car.scene.launch import launch_description
 from drake_car.scene.manoeuvre_targets import (
-    SPEED_TOLERANCE_KPH, dry_friction, manoeuvre_measures)
-from drake_car.scene.manoeuvres import PAPER_SHIFT_M, PAPER_SPEED_UP_S
+    SHIFT_TOLERANCE_M, SPEED_TOLERANCE_KPH, dry_friction, heading_tolerance_rad,
+    lane_change_metrics, manoeuvre_measures)
+from drake_car.scene.manoeuvres import PAPER_SHIFT_M, PAPER_SPEED_UP_S, LaneChange
 from drake_car.sim.lane_change_calibration import adapted
 
 log = logging.getLogger(__name__)
@@ -64,7 +65,54 @@ def manoeuvre_summary(runs: dict, calibration):
                 "reached_run": first.scene.name},
             "shift_m": m.shift_m, "steer_s": m.timeline.steer_s,
             "profile": {"amplitude_m": m.amplitude_m, "second_lobe": m.second_lobe},
-            "calibration": cal, "checks": checks, "off": off}
+            "calibration": cal, "checks": checks, "off": off, "run_ends": run_ends(runs)}
+
+
+def run_ends(runs):
+    """Where each lane-change run ends (its last sample): the heading and the track's shift
+    from the start of phase III, the shift signed to the case's side; with the tolerances the
+    lane change's end is judged with (not judged here: the paper's lane change is defined at
+    the end of phase III, but a car still turning then keeps going)."""
+    out = {}
+    for name, r in runs.items():
+        m = r.scene.manoeuvre
+        if not isinstance(m, LaneChange) or not all(k in r.history for k in ("y_m", "yaw_rad")):
+            continue
+        lc = lane_change_metrics(r.history, m.timeline)
+        if lc is None:
+            continue
+        sign = 1.0 if m.case == "a" else -1.0
+        out[name] = {"t_s": float(r.history["t"][-1]), "heading_deg": lc["final_heading_deg"],
+                     "shift_m": sign * lc["final_shift_m"], "asked_shift_m": m.shift_m,
+                     "heading_tolerance_deg": float(np.degrees(heading_tolerance_rad(
+                         m.timeline))), "dry": dry_friction(r.scene)}
+    return out
+
+
+def _ends_lines(man):
+    """The runs without dry friction where they end: a car that had not finished turning when
+    the lane change ended is said so, with how far it went on."""
+    ends = {n: e for n, e in (man.get("run_ends") or {}).items() if not e["dry"]}
+    if not ends:
+        return []
+    worst = max(ends.items(), key=lambda item: abs(item[1]["heading_deg"]))
+    name, e = worst
+    drifted = abs(e["shift_m"] - e["asked_shift_m"])
+    still = (abs(e["heading_deg"]) > e["heading_tolerance_deg"]
+             or drifted > SHIFT_TOLERANCE_M)
+    text = (f"Where the runs without dry friction end ({e['t_s']:g} s; not judged: the lane "
+            "change is defined at the end of phase III): heading "
+            + ", ".join(f"{n} {_number(x['heading_deg'], 'deg')}°" for n, x in sorted(
+                ends.items()))
+            + "; track " + ", ".join(f"{n} {_number(x['shift_m'], 'm')} m" for n, x in sorted(
+                ends.items())) + " from where the lane change began.")
+    if still:
+        text += (f" **The car had not finished turning when the lane change ended**: run "
+                 f"{name} ends {_number(e['heading_deg'], 'deg')}° off parallel (the end's "
+                 f"tolerance {e['heading_tolerance_deg']:.2g}°) and "
+                 f"{_number(drifted, 'm')} m off the asked {e['asked_shift_m']:g} m, so the "
+                 "places after it (place b) see a car still settling its path.")
+    return ["", text]
 
 
 def launch_words(s):
@@ -165,7 +213,7 @@ def manoeuvre_section(s):
                   "(dry struts) the path it makes is moved by the friction the study measures; "
                   "beyond the tolerance there it is marked as the friction's effect, not as a "
                   "manoeuvre that is off."]
-    return lines + [""]
+    return lines + _ends_lines(man) + [""]
 
 
 def _number(value, unit):
