@@ -160,3 +160,48 @@ def test_no_verify_s_last_line_says_no_error_was_estimated():
     claims[0]["decided"] = False
     assert verdict_line(claims, verified=True, steps_s=[1e-3]).startswith(
         "1 of 2 claims reproduced, 1 undecided at the finest step tried")
+
+
+# -- The driver's seat point (a VW Vanagon's review: the Escort's point ran for a van) ----------
+
+def test_a_car_file_without_its_seat_point_rides_at_a_named_estimate(caplog, tmp_path):
+    """A car file that states no seat_point_m runs the ride at an estimate from its size [EST]:
+    warned once on stderr where the ride is logged (not in a scene that does not log it),
+    named in the ride report's words with how to state it; the shipped car's point is the
+    Escort's; a car file's own point is its own, and a scene's over it the scene's."""
+    from drake_car.model.hard_points import HardPointCar
+    from drake_car.model.seat import STATE_SEAT, estimated_seat_point_m
+    from drake_car.scene.car_file import read_car_file
+    from drake_car.study.ride.grid import base_scene
+    from drake_car.study.ride.report import seat_flag
+    from pydrake.common.yaml import yaml_dump_typed
+    with caplog.at_level(logging.WARNING, logger="drake_car"):
+        load_scene(base=paper_scene("a_1"), scene_text=f"car_file: {CAR_FILE}")  # no ride
+        assert not _said(caplog, "seat_point_m")
+        for _ in range(2):
+            scene = base_scene(scene_text=f"car_file: {CAR_FILE}")
+    (said,) = _said(caplog, "seat_point_m")
+    assert f"car_file {CAR_FILE} states no seat_point_m" in said and "[EST]" in said
+    assert STATE_SEAT in said and "forward-control van" in said
+    seat = borrowed.seat_point(scene)
+    assert seat["source"] == "estimated"
+    escort = CarParameters()
+    assert seat["seat_point_m"] == estimated_seat_point_m(scene.car, escort) != escort.seat_point_m
+    words = borrowed.seat_point_words(seat)
+    assert "**estimated** [EST]" in words and STATE_SEAT in words and CAR_FILE in words
+    assert "estimate [EST], not this car's" in seat_flag(seat)[0]
+    shipped = borrowed.seat_point(base_scene())
+    assert shipped["source"] == "shipped" and shipped["seat_point_m"] == [-1.25, 0.37, 0.5]
+    assert "the shipped Escort's [EST]" in borrowed.seat_point_words(shipped)
+    assert seat_flag(shipped) == []
+    car = read_car_file(CAR_FILE)
+    car.seat_point_m = [-0.10, 0.40, 0.90]
+    path = tmp_path / "van.yaml"
+    path.write_text(yaml_dump_typed(car, schema=HardPointCar))
+    caplog.clear()
+    with caplog.at_level(logging.WARNING, logger="drake_car"):
+        own = borrowed.seat_point(base_scene(scene_text=f"car_file: {path}"))
+    assert not _said(caplog, "seat_point_m") and own["source"] == "car_file"
+    assert f"the car file's `seat_point_m` (`{path}`)" in borrowed.seat_point_words(own)
+    over = base_scene(scene_text=f"{{car_file: {path}, car: {{seat_point_m: [-0.2, 0.4, 0.9]}}}}")
+    assert borrowed.seat_point(over)["source"] == "scene"

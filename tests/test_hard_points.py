@@ -20,6 +20,7 @@ from drake_car.model.hard_points import (
     whole_car_inertia_kgm2)
 from drake_car.model.loading import data_path, load_car
 from drake_car.model.parameters import CarParameters
+from drake_car.model.seat import ESCORT_SEAT_POINT_M, estimated_seat_point_m
 from drake_car.model.sdformat import generate_sdformat
 from drake_car.scene.car_file import read_car_file
 from drake_car.scene.load import SceneError, dump_scene, dump_scene_file, load_scene
@@ -250,10 +251,48 @@ def test_what_an_engineer_would_not_enter_is_refused_with_the_reason(tmp_path, l
      "car.mass.sprung_inertia_kgm2", "triangle inequality"),
     ("car: {mass: {total_mass_kg: 5000.0}}", "car.mass.total_mass_kg", "3500"),
     ("car: {front: {guide_length_l_m: 0.4}}", "car.front.guide_length_l_m", "too long"),
+    ("car: {seat_point_m: [-1.25, 3.0, 0.5]}", "car.seat_point_m", "between the wheels"),
+    ("car: {seat_point_m: [-1.25, 0.37]}", "car.seat_point_m", r"\[x, y, z\]"),
 ])
 def test_today_s_parameters_are_refused_alike(text, key, reason):
     with pytest.raises(SceneError, match=re.escape(key) + ".*" + reason):
         load_scene(scene_text=text)
+
+
+def test_a_car_file_s_seat_point_is_its_own_else_estimated_from_its_size():
+    """The one key a car file may leave out: stated, it is moved into V with the file's other
+    points; left out, the Escort's point scaled by the car's wheelbase, front track and body
+    height [EST], which gives the Escort its own point exactly."""
+    escort = CarParameters()
+    assert estimated_seat_point_m(escort, escort) == list(ESCORT_SEAT_POINT_M) \
+        == escort.seat_point_m
+    car = read_car_file(ENGINEER)
+    assert car.seat_point_m is None
+    params = to_parameters(car)
+    assert params.seat_point_m == estimated_seat_point_m(params, CarParameters())
+    longer = dataclasses.replace(car, wheelbase_m=1.2 * car.wheelbase_m)
+    assert to_parameters(longer).seat_point_m[0] == pytest.approx(1.2 * params.seat_point_m[0],
+                                                                  rel=1e-12)
+    car.seat_point_m = [-0.10, 0.40, 0.90]  # a forward-control van's driver
+    car.check()
+    assert_allclose(to_parameters(car).seat_point_m,
+                    np.array([-0.10, 0.40, 0.90]) + frame_shift_m(car), rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("point, key, reason", [
+    ([-1.25, 0.37], "seat_point_m", r"must be given as \[x, y, z\]"),
+    ([-1.25, float("nan"), 0.5], "seat_point_m[1]", "must be a finite number"),
+    ([-1250.0, 370.0, 500.0], "seat_point_m[0]", r"more than 10 m .*in mm\?"),
+    ([2.5, 0.37, 0.5], "seat_point_m", r"2.500 m ahead of the front axle: a seat lies at most 1 m"),
+    ([-1.25, 0.37, -0.2], "seat_point_m", r"above the ground: a seat lies above it"),
+])
+def test_a_bad_seat_point_is_refused_naming_the_key_and_the_file(tmp_path, point, key, reason):
+    path = _engineer(tmp_path, _set("", "seat_point_m", point))
+    with pytest.raises(SceneError) as refused:
+        load_scene(scene_text=f"car_file: {path}")
+    message = str(refused.value)
+    assert f"car_file {path}: {key} = " in message and re.search(reason, message), message
+    assert "\n" not in message
 
 
 def test_a_car_file_states_every_value(tmp_path):

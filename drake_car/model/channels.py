@@ -25,13 +25,6 @@ CAR_CHANNELS = {
     "top_mounts": tuple(f"top_mount_{a}_{s}_m" for s in SIDES for a in "xyz"),
     "ride": ("az_seat_mps2", "roll_acc_radps2", "pitch_acc_radps2"),
 }
-# The driver's seat point in the body (vehicle frame V: on the ground midway between the front
-# contact points, x forward, y left): [EST] the floor under the driver's seat pan (ISO 2631-1
-# measures at the seat surface under the ischial tuberosities; the seat's own cushion is not
-# modelled, so this is the seat's mounting point): 1.25 m behind the front axle (a C-segment
-# car's front-seat H-point sits about mid-wheelbase, here 2.39 m), 0.37 m left of the centre
-# line (a left-hand-drive car, half a front-seat spacing), 0.50 m above the ground.
-SEAT_POINT_M = (-1.25, 0.37, 0.50)
 # Below this speed the sideslip angle is not defined (reported as 0).
 SIDESLIP_MIN_SPEED_MPS = 0.5
 
@@ -72,9 +65,9 @@ class CarChannels(LeafSystem):
     potential energy of gravity and the coil springs (J), the SAP helpers' bodies
     (``helper_instances``: the pacer, the ballast; decoupled from the car) left out.
     ``top_mounts``: the compliant mounts' deflections (m). ``ride``: the world-vertical
-    acceleration of the body point ``SEAT_POINT_M`` (m/s², gravity not included: a = a_o +
-    α × r + ω × (ω × r)), and the body's angular acceleration about its own x (roll) and y
-    (pitch) axes (rad/s²).
+    acceleration of the car's seat point ``car.seat_point_m`` (``model.seat``: in V, the
+    body's frame; m/s², gravity not included: a = a_o + α × r + ω × (ω × r)), and the body's
+    angular acceleration about its own x (roll) and y (pitch) axes (rad/s²).
     """
 
     def __init__(self, plant, car, groups, *, helper_instances=()):
@@ -93,6 +86,7 @@ class CarChannels(LeafSystem):
         self._prismatic = [car.joint(f"strut_prismatic_{s}").position_start() for s in SIDES]
         self._revolute = [car.joint(f"strut_revolute_{s}").position_start() for s in SIDES]
         self._guide = float(car.params.front.guide_length_l_m)
+        self._seat = np.asarray(car.params.seat_point_m, dtype=float)  # in V (model.seat)
         # The steering wheel turns left (+) as the road wheels do: the rack the same way for a
         # rack ahead of the axle, the other way behind it (geometry.steering_sign).
         self._rack_gain = (float(car.params.front.rack_gain_m_per_rad)
@@ -159,7 +153,7 @@ class CarChannels(LeafSystem):
         w = self._velocities.Eval(context)[self._chassis].rotational()
         acceleration = self._accelerations.Eval(context)[self._chassis]
         alpha, a_origin = acceleration.rotational(), acceleration.translational()
-        r = rotation @ np.asarray(SEAT_POINT_M)
+        r = rotation @ self._seat
         a_seat = a_origin + np.cross(alpha, r) + np.cross(w, np.cross(w, r))
         alpha_body = rotation.T @ alpha
         output.SetFromVector([a_seat[2], alpha_body[0], alpha_body[1]])

@@ -15,7 +15,10 @@ The car file (YAML, loaded by ``scene.car_file``) states every value:
   car is weighed and swung, not the sprung mass's — and the parts' masses;
 - ``wheelbase_m``, ``driven_axle``, ``rear`` (the rear axle as trailing arms:
   ``model.parameters.RearSuspensionParameters``; its heights in the car file's frame) and
-  ``tyre`` (``TyreVerticalParameters``).
+  ``tyre`` (``TyreVerticalParameters``);
+- ``seat_point_m`` (the one key a file may leave out): the floor under the driver's seat,
+  where the ride study measures comfort (``model.seat``); left out, it is estimated from the
+  car's size [EST] and said so wherever it runs (``scene.borrowed``).
 
 Frame: ISO 8855 / Chrono's, x forward, y left, z up, z = 0 on the ground under the car as
 drawn; the x origin anywhere. The model's vehicle frame V (``model.geometry``) has its origin
@@ -40,6 +43,7 @@ from drake_car.model.geometry import (
 from drake_car.model.parameters import (
     DRIVEN_AXLES, MIN_ARM_SPAN_M, CarParameters, FrontSuspensionParameters, MassParameters,
     RearSuspensionParameters, TyreVerticalParameters, check_inertia, check_passenger_car_mass)
+from drake_car.model.seat import check_seat_point, estimated_seat_point_m
 
 NAN = float("nan")
 
@@ -197,6 +201,8 @@ class HardPointCar:
     front: FrontHardPoints = dataclasses.field(default_factory=FrontHardPoints)
     rear: RearSuspensionParameters = dataclasses.field(default_factory=RearSuspensionParameters)
     tyre: TyreVerticalParameters = dataclasses.field(default_factory=TyreVerticalParameters)
+    # [x, y, z] (m) in the file's frame; None (left out): estimated (``model.seat``).
+    seat_point_m: typing.Optional[typing.List[float]] = None
 
     def check(self):
         """The values one by one and the points as a McPherson corner; the derived car is
@@ -205,6 +211,8 @@ class HardPointCar:
             checked(getattr(self, group), group)
         positive(self, "wheelbase_m")
         one_of(self, "driven_axle", DRIVEN_AXLES)
+        if self.seat_point_m is not None:
+            _point_check(self, "seat_point_m")
         if not self.mass.cog_behind_front_axle_m < self.wheelbase_m:
             raise ParameterError(
                 "mass.cog_behind_front_axle_m", self.mass.cog_behind_front_axle_m,
@@ -229,6 +237,8 @@ class HardPointCar:
                 f"leaves the body (the car less its parts, which add their own inertia about "
                 f"the centre of gravity) {[round(v, 1) for v in sprung]} kg m², not a rigid "
                 "body's moments: the whole car's inertia is too small for its parts")
+        if self.seat_point_m is not None:
+            check_seat_point(params, given=self.seat_point_m)
         return self
 
 
@@ -315,6 +325,9 @@ def to_parameters(car: HardPointCar) -> CarParameters:
     params.mass.cog_to_rear_axle_m = car.wheelbase_m - float(-cog[0])
     params.mass.sprung_cog_height_m = float(cog[2])
     params.mass.sprung_inertia_kgm2 = [float(v) for v in inertia]
+    params.seat_point_m = (
+        estimated_seat_point_m(params, CarParameters()) if car.seat_point_m is None
+        else [float(v) for v in np.array(car.seat_point_m, dtype=float) + shift])
     return params
 
 
@@ -358,7 +371,8 @@ def from_parameters(params: CarParameters) -> HardPointCar:
         wheelbase_m=params.wheelbase_m, driven_axle=params.driven_axle,
         front=FrontHardPoints(**{name: [float(v) for v in value] for name, value in given.items()},
                               **{name: getattr(f, name) for name in FRONT_AS_GIVEN}),
-        rear=dataclasses.replace(params.rear), tyre=dataclasses.replace(params.tyre))
+        rear=dataclasses.replace(params.rear), tyre=dataclasses.replace(params.tyre),
+        seat_point_m=[float(v) for v in params.seat_point_m])
 
 
 def whole_car_inertia_kgm2(params: CarParameters):

@@ -30,6 +30,7 @@ import typing
 
 from drake_car.law.checks import (
     ParameterError, checked, finite, nonnegative, one_of, positive)
+from drake_car.model.seat import ESCORT_SEAT_POINT_M, check_seat_point
 
 GRAVITY_MPS2 = 9.81
 
@@ -318,6 +319,9 @@ class CarParameters:
     # rotation): front for the Escort (a front-drive car), rear for a rear-drive car; the
     # torque is reacted by the body (driveshafts) and the speed measured at the other axle.
     driven_axle: str = "front"
+    # The driver's seat point in V (m; the floor under the seat), where the ride study's
+    # comfort a_w is measured: the Escort's [EST] (``model.seat``: its frame, source, checks).
+    seat_point_m: typing.List[float] = _vector(*ESCORT_SEAT_POINT_M)
 
     @property
     def wheelbase_m(self):
@@ -378,8 +382,8 @@ class CarParameters:
             raise ParameterError(
                 "mass.total_mass_kg", self.mass.total_mass_kg,
                 f"must exceed the suspension parts' mass {self.parts_mass_kg():.1f} kg")
+        check_seat_point(self)
         return self
-
 
     def parts_mass_kg(self):
         """Mass of every body except the chassis (sprung body)."""

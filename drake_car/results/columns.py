@@ -40,6 +40,10 @@ MEANINGS = [
     (r"^speed_mps$", "horizontal speed of the body's origin (m/s)"),
     (r"^sideslip_rad$", "sideslip angle at the body's origin (rad; 0 below 0.5 m/s)"),
     (r"^a[xy]_mps2$", "acceleration of the body's origin in its heading frame (m/s²)"),
+    (r"^az_seat_mps2$", "world-vertical acceleration of the body at the car's seat point "
+                        "(car.seat_point_m in the run's scene.yaml; m/s², gravity not included)"),
+    (r"^aw_seat_mps2$", "ISO 2631-1 Wk-weighted RMS vertical acceleration at the car's seat "
+                        "point (report.md says where it lies and its source; m/s²)"),
     (r"^rack_m$", "rack position (m, left +)"),
     (r"^rack_force_N$", "force the steering servo applies to the rack (N)"),
     (r"^steering_wheel_torque_Nm$", "torque the driver holds at the steering wheel: the rack "

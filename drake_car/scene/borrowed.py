@@ -8,13 +8,17 @@ with its source so that no report calls the shipped car's value "this car's":
 - the tyres' relaxation lengths (``relaxation``): ``tyres.slip``'s, by default the shipped
   tyre's estimates (σκ 0.15 m, σα 0.45 m [EST], ``law.tyre.slip``), or the tyre file's own
   (PAC2002 PTX*/PTY*, MF 6.x carcass stiffnesses) at the car's wheel load at rest with
-  ``tyres.slip.relaxation_lengths_from_file: true``.
+  ``tyres.slip.relaxation_lengths_from_file: true``;
+- the driver's seat point (``seat_point``), where the ride study measures comfort: a car file
+  that states no ``seat_point_m`` runs with an estimate from the car's size [EST]
+  (``model.seat.estimated_seat_point_m``), the Escort's without a car file.
 
 Every report that states the drive's limit or describes the tyres gives these facts (the value
 that ran, where it came from, how to set one's own). Where the scene is loaded (``scene.load.
 check_scene``), ``say_borrowed`` warns on stderr, once per process and value, where the value
 runs: a car file run with the default drive torque in a scene that launches, and a tyre file
-with relaxation data of its own that is not used; not where only the scene's car is used (the
+with relaxation data of its own that is not used, a car file without its seat point in a scene
+that logs the ride; not where only the scene's car is used (the
 strut rig, the kinematics: ``load_scene(..., runs=False)``)."""
 
 import logging
@@ -22,6 +26,8 @@ import logging
 from drake_car.law.tyre.magic_formula import relaxation_lengths_m, relaxation_source
 from drake_car.law.tyre.slip import SlipOptions
 from drake_car.model.loading import read_tyre
+from drake_car.model.seat import ESCORT_SEAT_POINT_M, STATE_SEAT
+from drake_car.scene.car_file import car_of_file, states_seat_point
 from drake_car.scene.launch import TRACTION_MARGIN, drive_torque_limit_Nm
 from drake_car.scene.limits import wheel_load_at_rest_N
 from drake_car.scene.scene import LinearTyre, MagicFormula, OpenDifferential
@@ -128,7 +134,8 @@ def relaxation_words(r):
 
 def say_borrowed(scene, where="scene"):
     """Warns on stderr, once per process and value, where a loaded scene's car runs with the
-    shipped car's drive torque or leaves its tyre file's relaxation data unused."""
+    shipped car's drive torque, leaves its tyre file's relaxation data unused, or logs the
+    ride at a seat point its car file does not state (an estimate)."""
     drive = scene.drive  # its source only: the clamp (drive_limit's runs_Nm) is not needed here
     if (scene.car_file and getattr(scene.manoeuvre, "drives", False)
             and isinstance(drive, OpenDifferential)
@@ -140,6 +147,15 @@ def say_borrowed(scene, where="scene"):
                         "drive.max_wheel_torque_Nm = %g N m, the shipped Escort's estimate "
                         "[EST], not this car's: it sets the launch; set your car's with %s",
                         where, scene.car_file, drive.max_wheel_torque_Nm, SET_DRIVE)
+    if scene.car_file and "ride" in (scene.logging.channels or ()):
+        s = seat_point(scene)
+        key = ("seat", scene.car_file, tuple(s["seat_point_m"]))
+        if s["source"] == "estimated" and key not in _SAID:
+            _SAID.add(key)
+            log.warning("%s: car_file %s states no seat_point_m: the ride's comfort (a_w) is "
+                        "measured at an estimate [EST], %s (%s); state your car's with %s",
+                        where, scene.car_file, seat_place(s["seat_point_m"]), SEAT_ESTIMATE,
+                        STATE_SEAT)
     if isinstance(scene.tyres, (MagicFormula, LinearTyre)) and scene.tyres.slip.relaxation \
             and not scene.tyres.slip.relaxation_lengths_from_file:
         r = relaxation(scene)
@@ -152,3 +168,42 @@ def say_borrowed(scene, where="scene"):
                         _FILE_SOURCE[r["file_source"]], *r["file_m"], r["wheel_load_N"],
                         *r["used_m"], " (the shipped tyre's estimates [EST])"
                         if r["source"] == "shipped" else "", USE_FILE_RELAXATION)
+
+
+def seat_point(scene):
+    """{"seat_point_m": [x, y, z] in V, "source": "car_file" (the file states it), "estimated"
+    (a car file that states none: ``model.seat.estimated_seat_point_m``), "shipped" (the
+    Escort's) or "scene" (the scene's ``car.seat_point_m``), "car_file"} of the scene's car."""
+    point, name = [float(v) for v in scene.car.seat_point_m], scene.car_file or None
+    if name:
+        own = [float(v) for v in car_of_file(name).seat_point_m]
+        source = ("scene" if point != own else
+                  "car_file" if states_seat_point(name) else "estimated")
+    else:
+        source = "shipped" if point == list(ESCORT_SEAT_POINT_M) else "scene"
+    return {"seat_point_m": point, "source": source, "car_file": name}
+
+
+# What the estimate is (model.seat.estimated_seat_point_m), for the warning and the reports.
+SEAT_ESTIMATE = ("the Escort's point scaled by the car's wheelbase, front track and body height: "
+                 "a conventional car's driver, wrong for a forward-control van's over the front "
+                 "axle")
+
+
+def seat_place(point):
+    """"1.250 m behind the front axle, 0.370 m left of the centre line, 0.500 m above the
+    ground": a point in V, in words."""
+    x, y, z = point
+    return (f"{abs(x):.3f} m {'behind' if x <= 0 else 'ahead of'} the front axle, {abs(y):.3f} "
+            f"m {'left' if y >= 0 else 'right'} of the centre line, {z:.3f} m above the ground")
+
+
+def seat_point_words(s):
+    """Where the seat point lies and where it comes from, in words (``s``: ``seat_point``'s)."""
+    source = {
+        "car_file": f"the car file's `seat_point_m` (`{s['car_file']}`)",
+        "scene": "the scene's `car.seat_point_m`",
+        "shipped": "the shipped Escort's [EST], `drake_car/model/seat.py`",
+        "estimated": f"**estimated** [EST]: the car file `{s['car_file']}` states none, so "
+                     f"{SEAT_ESTIMATE}; state your car's with {STATE_SEAT}"}
+    return f"{seat_place(s['seat_point_m'])} ({source[s['source']]})"

@@ -12,9 +12,11 @@ centre of gravity and inertia): it reruns bit for bit, and loading it reads the 
 beneath the saved values.
 
 A car file states every value (a key left out is refused: no Escort value slips into another
-car unseen); the values are checked one by one and the points as a McPherson corner
-(``HardPointCar.check``); the car they make is checked with the scene (``CarParameters.check``,
-``scene.car_limits``), a refusal naming the hard points it was derived from.
+car unseen) but the driver's seat point (``seat_point_m``), which, left out, is estimated from
+the car's size [EST] and said so (``scene.borrowed``); the values are checked one by one and
+the points as a McPherson corner (``HardPointCar.check``); the car they make is checked with
+the scene (``CarParameters.check``, ``scene.car_limits``), a refusal naming the hard points it
+was derived from.
 """
 
 import copy
@@ -72,12 +74,17 @@ def _car_path(name):
 def _every_key_given(raw, schema, where, key):
     for field in dataclasses.fields(schema):
         name = f"{key}.{field.name}" if key else field.name
-        if field.name not in raw:
+        if field.name not in raw and not _optional(schema, field.name):
             raise SceneError(f"{where}: {name} is not given; a car file states every value "
                              "(none is taken from the shipped car)")
         hint = typing.get_type_hints(schema)[field.name]
         if dataclasses.is_dataclass(hint):
             _every_key_given(raw[field.name] or {}, hint, where, name)
+
+
+def _optional(schema, name):
+    """Whether a car file may leave ``name`` out (an Optional key: the seat point)."""
+    return type(None) in typing.get_args(typing.get_type_hints(schema)[name])
 
 
 def car_of_file(name) -> CarParameters:
@@ -90,6 +97,18 @@ def car_of_file(name) -> CarParameters:
 @functools.lru_cache(maxsize=16)
 def _car_of_file(name, path, version):
     return to_parameters(read_car_file(name))
+
+
+def states_seat_point(name):
+    """Whether the car file ``name`` states its seat point (``seat_point_m``; else the car runs
+    with an estimate: ``model.seat``)."""
+    path = _car_path(name)
+    return _states_seat_point(str(name), str(path), file_version(path))
+
+
+@functools.lru_cache(maxsize=16)
+def _states_seat_point(name, path, version):
+    return read_car_file(name).seat_point_m is not None
 
 
 def with_car_file(scene, name):

@@ -3,7 +3,8 @@
 Over the analysed window (constant speed, after the speed-up's transients):
 
 - ``aw_seat_mps2``: ISO 2631-1's Wk-weighted RMS vertical acceleration at the driver's seat
-  point (``model.channels.SEAT_POINT_M``; the record's mean removed by Wk's high pass);
+  point (the car's ``car.seat_point_m``, ``model.seat``; the record's mean removed by Wk's high
+  pass);
 - ``az_seat_rms_mps2``: the same unweighted (mean removed);
 - ``roll_acc_rms_radps2``, ``pitch_acc_rms_radps2``: RMS of the body's angular acceleration
   about its x and y axes (unweighted; ISO 2631-1's rotational weighting is not applied);

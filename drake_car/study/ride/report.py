@@ -10,7 +10,8 @@ import math
 import numpy as np
 
 from drake_car.results.numbers import signed
-from drake_car.scene.borrowed import drive_limit, drive_limit_words
+from drake_car.scene.borrowed import (
+    drive_limit, drive_limit_words, seat_place, seat_point, seat_point_words)
 from drake_car.scene.launch import launch_limits
 from drake_car.scene.manoeuvre_targets import SPEED_TOLERANCE_KPH
 from drake_car.study.car.describe import car_facts, car_lines
@@ -72,6 +73,15 @@ def speed_flag(rows):
             f"their speed within {SPEED_TOLERANCE_KPH:g} km/h over the analysed window: "
             f"{runs}. Their outcomes are not the ride at the asked speed (marked OFF below).",
             ""]
+
+
+def seat_flag(seat):
+    """The report's warning lines where the seat point is an estimate, not the car's (empty
+    otherwise; ``seat``: ``scene.borrowed.seat_point``'s)."""
+    if seat["source"] != "estimated":
+        return []
+    return [f"**Warning: the seat point is an estimate [EST], not this car's.** a_w is measured "
+            f"at {seat_point_words(seat)}.", ""]
 
 
 def warn_off_speed(rows):
@@ -163,15 +173,16 @@ def linear_verdict(sel):
     return linear, b, r2, dev, err
 
 
-def literature_text(rows):
+def literature_text(rows, seat):
     """The lubricated car's a_w against the literature (the sources as given; [EST] where a
-    value could not be checked here)."""
+    value could not be checked here); ``seat``: ``scene.borrowed.seat_point``'s."""
     lubricated = sorted((r for r in rows if r["strut"] == "lubricated"),
                         key=lambda r: (r["speed_kph"], r["road_class"]))
     values = ", ".join(f"class {r['road_class']} at {r['speed_kph']:g} km/h "
                        f"{r['aw_seat_mps2']:.2f} m/s²" for r in lubricated)
     return (
-        f"The lubricated car's Wk-weighted RMS vertical acceleration at the seat point: {values}."
+        "The lubricated car's Wk-weighted RMS vertical acceleration at the seat point "
+        f"({seat_place(seat['seat_point_m'])}; the car's section says its source): {values}."
         "\n\nAgainst what is known of passenger cars:\n\n"
         "- ISO 2631-1:1997, Annex C (C.2.3), the likely reactions to a_w in public transport: "
         "< 0.315 m/s² not uncomfortable; 0.315-0.63 a little uncomfortable; 0.5-1 fairly "
@@ -286,6 +297,7 @@ def write_outputs(out, rows, runs, study, wall_s):
     first = next(iter(runs.values()))
     scene, lubricated = first.scene, [r for r in runs.values() if r.scene.friction is None]
     car = car_facts(lubricated[0].scene if lubricated else scene)
+    seat = seat_point(scene)  # the car's: the grid's scenes share it
     steps = sorted({r.scene.plant.time_step for r in runs.values()})
     track = _track_m(study, runs)
     held = [(r["speed_min_kph"], r["speed_max_kph"], r["speed_kph"]) for r in rows]
@@ -297,7 +309,7 @@ def write_outputs(out, rows, runs, study, wall_s):
     launches = {v: t.speed_up_s for v, t in ride_timelines(study, scene).items()}
     text = [
         "# Ride comfort and road holding on rough roads against strut friction", "",
-        *flag,
+        *flag, *seat_flag(seat),
         f"{len(rows)} runs, each with its half-step twin ({2 * len(rows)} simulations); "
         f"analysis wall time {wall_s:.0f} s. Road: ISO 8608 (law/road/iso8608.py), one seed "
         f"({study.seed}) for every class and speed (class B is class A's road doubled, C is "
@@ -315,8 +327,10 @@ def write_outputs(out, rows, runs, study, wall_s):
         "- **strut models**: *lubricated* is the car as it is (μs = 0: no dry friction, its "
         f"own damper of {car['strut_damping_Nspm']:g} N s/m); *damper* adds the dry friction "
         "to the car's damper (a real strut); *paper* removes the viscous damping (the paper's "
-        "dry strut).", "",
-        "## Summary", "", *flag, summary_text(rows), "",
+        "dry strut).",
+        f"- **seat point** (where a_w is measured; `car.seat_point_m`): {seat_point_words(seat)}.",
+        "",
+        "## Summary", "", *flag, *seat_flag(seat), summary_text(rows), "",
         "## What each μs costs", "", cost_table(rows), "",
         "## Is the worsening linear in the friction force?", "",
         "Deubel, Schneider & Prokop (SAE J. Veh. Dyn. 8(2), 2024) measured vertical ride "
@@ -331,9 +345,12 @@ def write_outputs(out, rows, runs, study, wall_s):
         "much more certain than the absolute values. Not estimated here: a second seed.",
         "- The tyres touch the road at a point (no contact-patch enveloping): wavelengths below "
         "~0.5 m excite the wheels more than on a real tyre.",
-        "- The seat point is the floor under the seat; the seat cushion is not modelled.",
+        "- The seat point is the floor under the seat; the seat cushion is not modelled. a_w "
+        "depends on where it lies (the body's pitch moves a point over an axle unlike one at "
+        "mid-wheelbase): " + ("**an estimate, not this car's** (above)" if seat["source"] ==
+                              "estimated" else "see the car's section for its source") + ".",
         "- Only the front struts carry dry friction (the rear suspension is lubricated).", "",
-        "## The lubricated car against measured cars", "", literature_text(rows), "",
+        "## The lubricated car against measured cars", "", literature_text(rows, seat), "",
         "## Every run (value ± numerical error: |run(1 ms) - run(0.5 ms)|)", "",
         outcome_table(rows), "",
         "## Figures", "", *[f"![]({p.name})" for p in sorted(out.glob("ride_vs_mu_*.png"))],
