@@ -158,6 +158,13 @@ def test_what_the_calibration_depends_on(tmp_path):
     shutil.copy(SEDAN, moved)
     tyres = "tyres: !MagicFormula {{tir_file: {}, vertical_from_file: true}}"
     assert content(engineer("a_1", tyres.format(moved))) == key  # the same bytes elsewhere
+    # The seat point only measures the ride's comfort: a moved seat calibrates nothing anew.
+    shipped = load_scene(PAPER_SCENES, child="a_1")
+    seat = load_scene(PAPER_SCENES, child="a_1",
+                      scene_text="car: {seat_point_m: [-0.2, 0.37, 0.5]}")
+    assert seat.car.seat_point_m != shipped.car.seat_point_m
+    assert content(seat) == content(shipped) == lane_change_cache.shipped()["inputs"][
+        "content_sha256"]
     different = ["car: {mass: {total_mass_kg: 1400.0}}", tyres.format(edited),
                  "manoeuvre: !LaneChange {timeline: {straight_s: 1.5}}",
                  "manoeuvre: !LaneChange {shift_m: 3.5}",

@@ -15,7 +15,7 @@ The inputs' content (``content_sha256``) is what the calibration scene holds of 
 asked (``sim.lane_change_calibration.calibration_scene``), as YAML: its car, tyres (the tyre
 file named by its bytes' SHA-256 instead of its path: the same file anywhere is the same input,
 an edited file under the same name is another), road, drive, the timeline to the end of phase
-III and the shift asked; not the sections the calibration scene sets alike for every car (the
+III and the shift asked (not the car's seat point, which only measures); not the sections the calibration scene sets alike for every car (the
 step, the simulator, the logging: Drake's own configs dump differently in other versions).
 Clearing: ``python -m drake_car.sim.lane_change_cache --clear`` (or delete the folder).
 """
@@ -31,6 +31,7 @@ from pydrake.common.yaml import yaml_dump_typed
 
 from drake_car.law.tyre.tir import read_tir_bytes
 from drake_car.model.loading import tir_path
+from drake_car.model.seat import ESCORT_SEAT_POINT_M
 from drake_car.sim import equilibrium_cache
 
 FORMAT = 1  # bump when an entry's layout changes
@@ -54,10 +55,12 @@ def content_sha256(calibration_scene):
     if hasattr(tyres, "tir_file"):
         tir = hashlib.sha256(read_tir_bytes(tir_path(tyres.tir_file))).hexdigest()
         tyres = dataclasses.replace(tyres, tir_file=f"sha256:{tir}")
+    # the seat point only measures (the ride's comfort): a moved seat is the same calibration
+    car = dataclasses.replace(scene.car, seat_point_m=list(ESCORT_SEAT_POINT_M))
     m = scene.manoeuvre
     t = m.timeline
     text = f"lane change calibration {FORMAT}\n"
-    for name, value in (("car", scene.car), ("tyres", tyres), ("road", scene.road),
+    for name, value in (("car", car), ("tyres", tyres), ("road", scene.road),
                         ("drive", scene.drive)):
         text += f"{name}: !{type(value).__name__}\n{yaml_dump_typed(value)}\n"
     text += (f"timeline: settle_s {t.settle_s!r}, speed_up_s {t.speed_up_s!r}, straight_s "
