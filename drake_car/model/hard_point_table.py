@@ -215,7 +215,8 @@ def _rows(car, given, springs):
     add("mass", "sprung mass", m.total_mass_kg - car.parts_mass_kg(), "kg", "derived",
         "total less the parts")
     add("mass", "sprung mass's CoG behind the front axle, height", (m.cog_to_front_axle_m,
-        m.sprung_cog_height_m), "m", angle_kind, "(M G - Σ m_i c_i) / m_s")
+        m.sprung_cog_height_m - shift[2]), "m", angle_kind, "(M G - Σ m_i c_i) / m_s, "
+        + ("in the car file's frame as the row above" if by_points else "in V"))
     add("mass", "whole car's inertia (roll, pitch, yaw)", whole_car_inertia_kgm2(car), "kg m²",
         point_kind, "about its CoG; the body's and the parts' (parallel axes)")
     add("mass", "sprung mass's inertia (roll, pitch, yaw)", m.sprung_inertia_kgm2, "kg m²",
