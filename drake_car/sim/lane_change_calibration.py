@@ -172,7 +172,8 @@ def adapted(scene, *, run):
     found = lane_change_cache.find(content)
     if found is None:
         log.info("%s: calibrating the lane change's rack for this car (no calibration of its "
-                 "inputs found; three runs of %.1f s an iteration; kept for the next run)",
+                 "inputs found; runs of %.1f s: one an iteration, two more where it has not "
+                 "converged; kept for the next run)",
                  scene.name, calibrating.end_time_s)
         found = calibrate(calibrating, run=run) | {
             "source": "calibrated now (no calibration of its inputs was found) and kept in the "
