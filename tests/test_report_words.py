@@ -294,3 +294,22 @@ def test_a_new_position_the_car_takes_without_friction_is_not_friction_s():
     assert not_friction(_claim_two_rows(7.329e-3, 2.05e-3, 5e-5)) == ""
     # Apart by the threshold (0.1 mm) but not by it plus both errors: not shown to be friction's.
     assert not_friction(_claim_two_rows(2.30e-3, 2.15e-3, 5e-5)) != ""
+
+
+def _ends(heading_deg, shift_m, dry=False):
+    return {"t_s": 12.79, "heading_deg": heading_deg, "shift_m": shift_m, "asked_shift_m": 3.7,
+            "heading_tolerance_deg": 0.0716, "dry": dry}
+
+
+def test_a_car_still_turning_when_the_lane_change_ends_is_said_so():
+    # A VW Vanagon (CommonRoad set 3): its heading 0 at the lane change's end (its target),
+    # then -0.29 deg and its track 3.521 m, 0.18 m short, where the run ends.
+    from drake_car.study.paper.manoeuvre import _ends_lines
+    said = " ".join(_ends_lines({"run_ends": {"a_1": _ends(-0.2914, 3.521),
+                                              "b_1": _ends(0.2914, 3.521)}}))
+    assert "had not finished turning" in said and "0.179 m off the asked 3.7 m" in said
+    # The shipped Escort: -0.115 deg, 3.709 m: a few mm off, said as numbers only.
+    said = " ".join(_ends_lines({"run_ends": {"a_1": _ends(-0.1149, 3.7088),
+                                              "a_3": _ends(-3.0, 2.0, dry=True)}}))
+    assert "-0.1149°" in said and "had not finished turning" not in said
+    assert "a_3" not in said  # a dry run's path is the friction's effect, not judged here
