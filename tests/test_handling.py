@@ -364,7 +364,14 @@ def test_commonroad_s_model_breaking_down_ends_its_series_not_the_study(monkeypa
     ran = t <= mb["broke_down_s"]
     for channel in ("yaw_rate_radps", "ay_mps2", "roll_rad", "speed_mps"):
         assert np.all(np.isfinite(mb[channel][ran])) and np.all(np.isnan(mb[channel][~ran]))
+    assert mb["broke_down_why"].startswith("ZeroDivisionError")
     said = handling_report._broke_down_lines({"broke_down": {"steady_state": {
-        "t_s": 33.68, "steer_deg": 5.18, "ay_mps2": 5.75}}})
+        "t_s": 33.68, "steer_deg": 5.18, "ay_mps2": 5.75, "why": mb["broke_down_why"]}}})
     assert "could not go on** in the ramp steer at 33.68 s" in said[0]
+    assert "the car spun in it" in said[0]
     assert handling_report._diff(1.0, float("nan")) is None
+    # A step steer it did not finish has no characteristics, not a 0 % overshoot.
+    from drake_car.study.handling.measures import step_response
+    tail = np.where(t > 0.5, np.nan, np.radians(1.0) * (t > 0.2))
+    stopped = step_response(t, np.radians(1.0) * (t > 0.2), tail)
+    assert math.isnan(stopped["overshoot_pct"]) and math.isnan(stopped["steady"])

@@ -278,7 +278,8 @@ def _claim_two_rows(set_3_shift_m, set_1_shift_m, error_m):
     from drake_car.study.paper.report_sections import WITHOUT_DRY
     row = {"unit": "m", "error": error_m, "converged": True}
     return [row | {"name": "largest |Δd(b) - Δd(a)| with set 3", "value": set_3_shift_m,
-                   "decides": True, "relation": ">", "threshold": 1e-4},
+                   "decides": True, "relation": ">", "threshold": 1e-4,
+                   "holds": set_3_shift_m > 1e-4},
             row | {"name": f"{WITHOUT_DRY} (set 1)", "value": set_1_shift_m,
                    "decides": False, "relation": None, "threshold": None}]
 
@@ -294,6 +295,10 @@ def test_a_new_position_the_car_takes_without_friction_is_not_friction_s():
     assert not_friction(_claim_two_rows(7.329e-3, 2.05e-3, 5e-5)) == ""
     # Apart by the threshold (0.1 mm) but not by it plus both errors: not shown to be friction's.
     assert not_friction(_claim_two_rows(2.30e-3, 2.15e-3, 5e-5)) != ""
+    # Claim 2 not reproduced (no new position), or the car alone keeping its rods within the
+    # threshold: nothing to attribute, nothing said.
+    assert not_friction(_claim_two_rows(2e-5, 0.0, 0.0)) == ""
+    assert not_friction(_claim_two_rows(1.5e-4, 0.8e-4, 1e-5)) == ""
 
 
 def _ends(heading_deg, shift_m, dry=False):

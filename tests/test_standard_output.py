@@ -36,7 +36,7 @@ def _command(done):
 
 @pytest.mark.parametrize("error, code, said", [
     (OSError(errno.ENOSPC, "No space left on device"), 1,
-     "error: standard output: No space left on device; the command finished"),
+     "error: standard output: No space left on device; the command finished, but"),
     (BrokenPipeError(errno.EPIPE, "Broken pipe"), None, ""),
 ])
 def test_a_stdout_that_cannot_be_written_does_not_fail_the_work(error, code, said, monkeypatch,
@@ -67,3 +67,13 @@ def test_a_run_failure_with_stdout_lost_is_still_the_run_failure(monkeypatch, ca
         cli.run_main(main, [])
     assert stopped.value.code == 2
     assert capsys.readouterr().err.strip() == "error: the car left the road at 3.2 s"
+
+
+def test_a_closed_stdout_is_left_closed_and_the_work_goes_on(monkeypatch, capsys):
+    # `command >&-`: Python's sys.stdout is None and print() writes nothing; wrapping it made
+    # the first print an AttributeError traceback.
+    monkeypatch.setattr(sys, "stdout", None)
+    done = []
+    cli.run_main(_command(done), [])
+    assert done == ["work"] and sys.stdout is None
+    assert capsys.readouterr().err == ""

@@ -230,19 +230,26 @@ class _GuardedStdout:
         if self.failed is None:
             try:
                 return call(*args)
+            except BlockingIOError:  # a non-blocking stream that is full for now: not lost
+                return None
             except OSError as e:
                 self.failed = e
                 with contextlib.suppress(Exception):  # nothing more reaches the lost stream,
-                    os.dup2(os.open(os.devnull, os.O_WRONLY), self.stream.fileno())  # not even
-                    # the interpreter's last flush (which would print a traceback)
+                    null = os.open(os.devnull, os.O_WRONLY)  # not even the interpreter's last
+                    try:  # flush (which would print a traceback)
+                        os.dup2(null, self.stream.fileno())
+                    finally:
+                        os.close(null)
         return None
 
     def write(self, text):
-        self._guard(self.stream.write, text)
+        if self.stream is not None:
+            self._guard(self.stream.write, text)
         return len(text)
 
     def flush(self):
-        self._guard(self.stream.flush)
+        if self.stream is not None:
+            self._guard(self.stream.flush)
 
     def __getattr__(self, name):
         return getattr(self.stream, name)
@@ -255,7 +262,10 @@ def run_main(main, argv=None):
     that cannot be written (a full disk behind it: one line, exit 1; a reader that stopped
     reading, ``| head``: nothing) does not stop the work."""
     started()  # Ctrl-C while the command's module was imported: handled in drake_car.commands
-    out = sys.stdout = _GuardedStdout(sys.stdout)
+    # a closed stdout (`>&-`: None) stays None: print() then writes nothing, as it does
+    out = _GuardedStdout(sys.stdout)
+    if sys.stdout is not None:
+        sys.stdout = out
     try:
         main(argv)
         out.flush()
@@ -268,8 +278,9 @@ def run_main(main, argv=None):
     finally:
         sys.stdout = out.stream
     if out.failed is not None and not isinstance(out.failed, BrokenPipeError):
-        print(f"error: standard output: {describe(out.failed)}; the command finished and "
-              "wrote its output: only what it printed there is lost", file=sys.stderr)
+        print(f"error: standard output: {describe(out.failed)}; the command finished, but "
+              "what it printed there is lost (the files it writes were written)",
+              file=sys.stderr)
         raise SystemExit(1)
 
 

@@ -160,17 +160,27 @@ def _study(args):
         jam_cases.apply(rows, refined, noise)
     report = args.out / "report.md"
     partial = args.out / f".report.md.partial-{os.getpid()}"
+    kept = args.out / f".report.md.old-{os.getpid()}"
+    swapped = False
     try:
         with output_folder(args.out / "study") as out:
             summary = _analysed(args, study, rows, out, sweep, began, noise, local, jam, refined,
                                 changes, adapted)
             partial.write_text(design_report.report(summary, figures="study/"))
-            # Never a report beside a study/ it did not come from: a kill between the swap of
-            # study/ and the report's rename leaves none (a rerun reuses every run).
-            report.unlink(missing_ok=True)
+            # Never a report beside a study/ it did not come from: the old one is put aside
+            # while study/ is swapped (back if the swap is refused; a kill after the swap
+            # leaves none, and a rerun reuses every run).
+            if report.exists():
+                os.replace(report, kept)
+        swapped = True
         os.replace(partial, report)
+    except BaseException:
+        if not swapped and kept.exists():
+            os.replace(kept, report)  # the old study/ stays: so does its report
+        raise
     finally:
         partial.unlink(missing_ok=True)
+        kept.unlink(missing_ok=True)
     print(f"{len(rows)} runs ({sweep['reused']} reused, {sweep['failed']} failed); wrote "
           f"{report}")
 

@@ -28,7 +28,7 @@ from drake_car.law.errors import InputError
 from drake_car.results.columns import folder_readme
 from drake_car.results.files import write_text
 from drake_car.results.lock import LockHeld, exclusive, holder
-from drake_car.results.signals import terminate_as_exit
+from drake_car.results.signals import signals_held, terminate_as_exit
 
 
 class OutputError(InputError):
@@ -315,7 +315,7 @@ def output_folder(out_dir):
             except OutputError as refused:  # something came into it during the run: the
                 kept = _kept_beside(staging, parent, name)  # finished output is not lost
                 raise OutputError(f"{refused}; this run's output is kept in {kept}") from None
-            with _os_errors_named(out_dir, parent):
+            with _os_errors_named(out_dir, parent), signals_held():  # both renames or none
                 old = None
                 if out_dir.exists():
                     old = parent / f".{name}.partial-{os.getpid()}-old-{uuid.uuid4().hex[:8]}"

@@ -15,8 +15,9 @@ The inputs' content (``content_sha256``) is what the calibration scene holds of 
 asked (``sim.lane_change_calibration.calibration_scene``), as YAML: its car, tyres (the tyre
 file named by its bytes' SHA-256 instead of its path: the same file anywhere is the same input,
 an edited file under the same name is another), road, drive, the timeline to the end of phase
-III and the shift asked (not the car's seat point, which only measures); not the sections the calibration scene sets alike for every car (the
-step, the simulator, the logging: Drake's own configs dump differently in other versions).
+III and the shift asked (not the car's seat point, which only measures); not the sections the
+calibration scene sets alike for every car (the step, the simulator, the logging: Drake's own
+configs dump differently in other versions).
 Clearing: ``python -m drake_car.sim.lane_change_cache --clear`` (or delete the folder).
 """
 

@@ -90,7 +90,7 @@ def handling_study(scenes, fit_range, *, crosscheck_why=None, progress=True,
             result["crosscheck"] = cross_check(runs, result, fit_range, vehicle)
         except crosscheck.BrokeDown as e:  # before our runs' first steer: nothing to compare
             result["crosscheck"] = {"skipped": f"CommonRoad's model ({vehicle[1]}) could not "
-                                               f"hold the car straight {e}"}
+                                               f"go on {e}"}
         walls["cross-check"] = time.perf_counter() - started
     else:
         result["crosscheck"] = {"skipped": crosscheck_why}
@@ -214,8 +214,14 @@ def cross_check(runs, result, fit_range, vehicle=(1, "Ford Escort")):
         mb["phase"] = list(np.asarray(h["phase"])[keep])
         windows[name] = (keep, mb)
     keep, mb_ramp = windows["steady_state"]
-    mb_ss = handling.steady_state(mb_ramp, steer_rad=mb_ramp["steer_rad"], wheelbase_m=L_mb,
-                                  cog_offset_m=0.0, ay_range=fit_range)
+    try:
+        mb_ss = handling.steady_state(mb_ramp, steer_rad=mb_ramp["steer_rad"], wheelbase_m=L_mb,
+                                      cog_offset_m=0.0, ay_range=fit_range)
+    except handling.HandlingError:
+        if mb_ramp["broke_down_s"] is None:
+            raise
+        raise crosscheck.BrokeDown(mb_ramp["broke_down_s"], "in the ramp steer, before its "
+                                   f"a_y reached the fit range {fit_range} m/s²") from None
     no_camber = crosscheck.simulate_mb(mb_ramp["t"], mb_ramp["steer_rad"], mb_ramp["speed_mps"],
                                        p=p, camber_sign=False)
     no_camber["phase"] = mb_ramp["phase"]
@@ -282,7 +288,7 @@ def _broke_down_at(h, keep, mb, car):
     t = h["t"][keep]
     i = min(int(np.searchsorted(t, mb["broke_down_s"])), len(t) - 1)
     g = handling.cog_motion(h, whole_car_cog_to_front_m(car), car.mass.total_mass_kg)
-    return {"t_s": float(mb["broke_down_s"]),
+    return {"t_s": float(mb["broke_down_s"]), "why": mb.get("broke_down_why"),
             "steer_deg": float(np.degrees(handling.road_wheel_steer_rad(h)[keep][i])),
             "ay_mps2": float(g["ay"][keep][i])}
 

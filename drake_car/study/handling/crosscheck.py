@@ -86,7 +86,7 @@ class BrokeDown(Exception):
 
     def __init__(self, time, why):
         super().__init__(f"at {time:.3f} s: {why}")
-        self.time = time
+        self.time, self.why = time, why
 
 
 def _rk4(rhs, y, t0, steps, dt, record=None):
@@ -147,12 +147,12 @@ def simulate_mb(t, steer_rad, speed_mps, *, p=None, dt=1e-3, settle_s=4.0, steer
     steps = int(math.ceil((t[-1] - t[0]) / dt - 1e-9))
     grid_t, grid_y = [t[0]], [y.copy()]
     record = lambda time, yy: (grid_t.append(time), grid_y.append(yy.copy()))  # noqa: E731
-    ended = None
+    ended = why = None
     with contextlib.nullcontext() if camber_sign else _camber_sign_off():
         try:
             _rk4(rhs, y, t[0], steps, dt, record)
         except BrokeDown as e:  # what it ran before is kept; after it, no numbers (NaN)
-            ended = e.time
+            ended, why = e.time, e.why
         grid = np.array(grid_y)
         reached = (np.ones(len(t), bool) if ended is None  # the grid's end may round short
                    else t <= grid_t[-1] + 0.5 * dt)
@@ -160,7 +160,12 @@ def simulate_mb(t, steer_rad, speed_mps, *, p=None, dt=1e-3, settle_s=4.0, steer
         states[reached] = np.column_stack([np.interp(t[reached], np.array(grid_t), grid[:, j])
                                            for j in range(grid.shape[1])])
         derivatives = np.full_like(states, np.nan)
-        derivatives[reached] = [rhs(time, s) for time, s in zip(t[reached], states[reached])]
+        for i in np.flatnonzero(reached):
+            try:  # at the breakdown's own state its model fails again: NaN there
+                derivatives[i] = rhs(t[i], states[i])
+            except (ArithmeticError, ValueError):
+                if ended is None:
+                    raise
     r, vx, vy = states[:, YAW_RATE], states[:, VX], states[:, VY]
     ay_s = derivatives[:, VY] + r * vx
     ay_total = (p.m_s * ay_s + p.m_uf * (derivatives[:, 15] + r * vx)
@@ -168,7 +173,8 @@ def simulate_mb(t, steer_rad, speed_mps, *, p=None, dt=1e-3, settle_s=4.0, steer
     return {"t": t, "steer_rad": -states[:, DELTA], "yaw_rate_radps": -r, "ay_mps2": -ay_total,
             "ay_sprung_mps2": -ay_s, "roll_rad": states[:, ROLL],
             "sideslip_rad": -np.arctan2(vy, vx), "speed_mps": np.hypot(vx, vy),
-            "ax_mps2": derivatives[:, VX] - r * vy, "broke_down_s": ended}
+            "ax_mps2": derivatives[:, VX] - r * vy, "broke_down_s": ended,
+            "broke_down_why": why}
 
 
 # -- its own numbers: loads, tyre, single track, roll ---------------------------------------

@@ -205,6 +205,10 @@ def step_response(t, steer, response, *, steady_window_s=1.0):
     t, steer, y = (np.asarray(v, float) for v in (t, steer, response))
     steady_mask = t >= t[-1] - steady_window_s
     steer_ss, y_ss = float(np.mean(steer[steady_mask])), float(np.mean(y[steady_mask]))
+    if not (math.isfinite(steer_ss) and math.isfinite(y_ss)):  # a model that stopped before
+        nan = float("nan")  # its steady window (the cross-check's): no characteristic at all
+        return {"steady": nan, "gain": nan, "steer_50pct_s": None, "response_time_s": nan,
+                "peak_response_time_s": nan, "peak": nan, "overshoot_pct": nan}
     if steer_ss == 0 or y_ss == 0:
         raise HandlingError("step_response: the steer or the response has no steady value")
     s, sy = np.sign(steer_ss), np.sign(y_ss)

@@ -8,7 +8,7 @@ from drake_car.study.handling import tyre_section
 from drake_car.study.handling.measures import DEG_PER_G as DEG
 
 def _f(value, digits=3, signed=False):
-    if value is None:
+    if value is None or not math.isfinite(value):  # NaN: CommonRoad's model stopped before it
         return "–"
     return f"{value:+.{digits}g}" if signed else f"{value:.{digits}g}"
 
@@ -179,13 +179,16 @@ def _broke_down_lines(cc):
     it), and that it is compared only before that."""
     runs = {"steady_state": "ramp steer", "step_steer": "step steer"}
     said = [f"in the {runs[name]} at {e['t_s']:.2f} s (our car there: road-wheel steer "
-            f"{e['steer_deg']:.2f} deg, a_y {e['ay_mps2']:.2f} m/s²)"
-            for name, e in cc.get("broke_down", {}).items()]
+            f"{e['steer_deg']:.2f} deg, a_y {e['ay_mps2']:.2f} m/s²; its model: "
+            f"{e.get('why') or 'stopped'})" for name, e in cc.get("broke_down", {}).items()]
     if not said:
         return []
-    return [f"**CommonRoad's model could not go on** {'; '.join(said)}: the car spun in it "
-            "(a wheel rolling backwards divides its slip by zero). It is compared below only "
-            "on what it ran before that; its channels are empty after it.", ""]
+    spun = any("ZeroDivision" in (e.get("why") or "") for e in cc["broke_down"].values())
+    return [f"**CommonRoad's model could not go on** {'; '.join(said)}"
+            + (": a wheel rolling backwards in it divides its slip by its zero speed, i.e. "
+               "the car spun in it" if spun else "")
+            + ". It is compared below only on what it ran before that; its channels are "
+            "empty after it.", ""]
 
 
 def _crosscheck_section(result):
@@ -217,7 +220,7 @@ def _crosscheck_section(result):
 
     def rest(measured, model, channel):
         a, b = measured[channel]["response_time_s"], model[f"{channel}_response_time_s"]
-        return "–" if a is None or b is None else f"{a - b:+.3f} s"
+        return "–" if a is None or b is None or not math.isfinite(a - b) else f"{a - b:+.3f} s"
 
     k_text = ("reconciled part by part in the next table: MB's lever/load inconsistency "
               f"{rec['levers']['mb']:+.2f} (its), our tyres' Kyα at our static loads "
@@ -302,7 +305,7 @@ def _crosscheck_section(result):
         "|---|---|---|---|---|"]
     for name, a, b, why in rows:
         d = _diff(a, b)
-        nan = any(isinstance(x, float) and math.isnan(x) for x in (a, b))
+        nan = isinstance(b, float) and math.isnan(b)  # CommonRoad's column
         note = ("no value: CommonRoad's model stopped before it" if nan
                 else why if d is None or abs(d) > 10 else "within 10 %")
         lines.append(f"| {name} | {_f(a, 4)} | {_f(b, 4)} | "

@@ -70,6 +70,8 @@ def not_friction(rows):
     alone = next((r for r in rows if r["name"].startswith(WITHOUT_DRY)), None)
     if deciding is None or alone is None or deciding["threshold"] is None:
         return ""
+    if deciding["holds"] is not True or alone["value"] <= deciding["threshold"]:
+        return ""  # no new position to attribute, or the car alone keeps its rods in place
     budget = (deciding["error"] or 0.0) + (alone["error"] or 0.0)
     if deciding["value"] - alone["value"] > deciding["threshold"] + budget:
         return ""

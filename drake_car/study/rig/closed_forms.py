@@ -21,8 +21,8 @@ from drake_car.law.friction.coulomb import (
 from drake_car.law.friction.frd import StrutFrictionParameters
 from drake_car.sim.rigs.friction import RigOptions, simulate_rig
 
-# The belt of the accuracy study: 30 kg on 6 kN/m over a belt at 0.1 m/s, N = 300 N, μs = 0.4, μd = 0.3:
-# a stick of x_s - x_d = 5 mm each way (10 mm) and a cycle of 0.46 s. Δv = 1 % of the belt's
+# The belt of the accuracy study: 30 kg on 6 kN/m over a belt at 0.1 m/s, N = 300 N,
+# μs = 0.4, μd = 0.3: a stick of x_s - x_d = 5 mm each way (10 mm) and a cycle of 0.46 s. Δv = 1 % of the belt's
 # speed, Δmax = 1 % of the stick's 10 mm.
 BELT = dict(mass_kg=30.0, normal_force_N=300.0, spring_Npm=6000.0, belt_speed_mps=0.1)
 BELT_LAW = StrutFrictionParameters(mu_s=0.4, mu_d=0.3, dv_translation_mps=1e-3,
