@@ -108,12 +108,11 @@ def _ends_lines(man):
             + "; track " + ", ".join(f"{n} {_number(x['shift_m'], 'm')} m" for n, x in sorted(
                 ends.items())) + " from where the lane change began.")
     if still:
-        text += (f" **The car had not finished turning when the lane change ended**: run "
-                 f"{name} ends {_number(e['heading_deg'], 'deg')}° off parallel (the lane "
-                 f"change's end is judged within {e['heading_tolerance_deg']:.2g}°) and its "
-                 f"track {_number(drifted, 'm')} m off the asked {e['asked_shift_m']:g} m (the "
-                 f"tolerance {SHIFT_TOLERANCE_M:g} m), so place b sees a car that went on "
-                 "turning after the lane change.")
+        text += (f" The car went on turning after the lane change: run {name} ends "
+                 f"{_number(e['heading_deg'], 'deg')}° off parallel (the lane change's end is "
+                 f"judged within {e['heading_tolerance_deg']:.2g}°), its track "
+                 f"{_number(drifted, 'm')} m off the asked {e['asked_shift_m']:g} m, beyond "
+                 f"the shift's tolerance of {SHIFT_TOLERANCE_M:g} m; place b sees that car.")
     return ["", text]
 
 
