@@ -267,7 +267,7 @@ def test_a_car_file_s_seat_point_is_its_own_else_estimated_from_its_size():
     assert estimated_seat_point_m(escort, escort) == list(ESCORT_SEAT_POINT_M) \
         == escort.seat_point_m
     car = read_car_file(ENGINEER)
-    assert car.seat_point_m is None
+    assert car.seat_point_m == []  # left out
     params = to_parameters(car)
     assert params.seat_point_m == estimated_seat_point_m(params, CarParameters())
     longer = dataclasses.replace(car, wheelbase_m=1.2 * car.wheelbase_m)

@@ -201,8 +201,9 @@ class HardPointCar:
     front: FrontHardPoints = dataclasses.field(default_factory=FrontHardPoints)
     rear: RearSuspensionParameters = dataclasses.field(default_factory=RearSuspensionParameters)
     tyre: TyreVerticalParameters = dataclasses.field(default_factory=TyreVerticalParameters)
-    # [x, y, z] (m) in the file's frame; None (left out): estimated (``model.seat``).
-    seat_point_m: typing.Optional[typing.List[float]] = None
+    # [x, y, z] (m) in the file's frame; [] or left out: estimated (``model.seat``). A list,
+    # not Optional[List]: drake 1.51's YAML reader cannot make an Optional list.
+    seat_point_m: typing.List[float] = dataclasses.field(default_factory=list)
 
     def check(self):
         """The values one by one and the points as a McPherson corner; the derived car is
@@ -211,7 +212,7 @@ class HardPointCar:
             checked(getattr(self, group), group)
         positive(self, "wheelbase_m")
         one_of(self, "driven_axle", DRIVEN_AXLES)
-        if self.seat_point_m is not None:
+        if self.seat_point_m:
             _point_check(self, "seat_point_m")
         if not self.mass.cog_behind_front_axle_m < self.wheelbase_m:
             raise ParameterError(
@@ -237,7 +238,7 @@ class HardPointCar:
                 f"leaves the body (the car less its parts, which add their own inertia about "
                 f"the centre of gravity) {[round(v, 1) for v in sprung]} kg m², not a rigid "
                 "body's moments: the whole car's inertia is too small for its parts")
-        if self.seat_point_m is not None:
+        if self.seat_point_m:
             check_seat_point(params, given=self.seat_point_m)
         return self
 
@@ -326,7 +327,7 @@ def to_parameters(car: HardPointCar) -> CarParameters:
     params.mass.sprung_cog_height_m = float(cog[2])
     params.mass.sprung_inertia_kgm2 = [float(v) for v in inertia]
     params.seat_point_m = (
-        estimated_seat_point_m(params, CarParameters()) if car.seat_point_m is None
+        estimated_seat_point_m(params, CarParameters()) if not car.seat_point_m
         else [float(v) for v in np.array(car.seat_point_m, dtype=float) + shift])
     return params
 

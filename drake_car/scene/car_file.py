@@ -83,8 +83,11 @@ def _every_key_given(raw, schema, where, key):
 
 
 def _optional(schema, name):
-    """Whether a car file may leave ``name`` out (an Optional key: the seat point)."""
-    return type(None) in typing.get_args(typing.get_type_hints(schema)[name])
+    """Whether a car file may leave ``name`` out (the seat point: ``model.hard_points``)."""
+    return (schema, name) in _OPTIONAL
+
+
+_OPTIONAL = {(HardPointCar, "seat_point_m")}
 
 
 def car_of_file(name) -> CarParameters:
@@ -108,7 +111,7 @@ def states_seat_point(name):
 
 @functools.lru_cache(maxsize=16)
 def _states_seat_point(name, path, version):
-    return read_car_file(name).seat_point_m is not None
+    return bool(read_car_file(name).seat_point_m)
 
 
 def with_car_file(scene, name):
